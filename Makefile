@@ -1,0 +1,25 @@
+# The README's two commands are `make demo` and `make test`; both install what is missing first.
+PYTHON ?= python3
+# Re-install only when a source or build file changed since the last install.
+SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml scripts/bootstrap.sh
+STAMP := build/.installed-$(subst /,_,$(PYTHON))
+
+.PHONY: setup demo test bench clean
+setup: $(STAMP)
+
+$(STAMP): $(SOURCES)
+	bash scripts/bootstrap.sh "$(PYTHON)" test,viz,bench
+	@mkdir -p build && touch $@
+
+demo: setup
+	$(PYTHON) -m meshsmith demo --out demo-output
+
+test: setup
+	$(PYTHON) -m pytest -q tests
+
+bench: setup
+	$(PYTHON) -m pip install -q --disable-pip-version-check trimesh meshio libigl
+	$(PYTHON) benchmarks/run_all.py
+
+clean:
+	rm -rf build demo-output

@@ -1,0 +1,11 @@
+#pragma once
+// One binding function per chapter (DESIGN.md: cpp/python/<chapter>.cpp); module.cpp calls each
+// with the chapter's submodule of meshsmith._core.
+#include <pybind11/pybind11.h>
+
+namespace meshsmith::python {
+void bind_core(pybind11::module_& m);
+void bind_io(pybind11::module_& m);
+void bind_topology(pybind11::module_& m);
+void bind_render(pybind11::module_& m);
+}  // namespace meshsmith::python

@@ -1,0 +1,74 @@
+#pragma once
+// Conversions between numpy arrays and the core's Eigen types, shared by every binding file.
+// All argument checking that depends on Python objects (array-likeness, dtype, shape) happens
+// here, once, so the Python modules stay thin and the messages are the same everywhere.
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/progress.h>
+#include <meshsmith/core/types.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+namespace meshsmith::python {
+
+namespace py = pybind11;
+
+/// C-contiguous arrays as the core reads them (forcecast: converted from any numeric dtype
+/// after the checks below have ruled out the unsafe conversions).
+using RealArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IndexArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
+
+/// Any array-like of real numbers with shape (n, columns) → C-contiguous float64 array.
+/// \throw InputError naming `name` for a wrong shape, a non-numeric dtype or a non-array.
+RealArray as_real_matrix(const py::handle& object, const char* name,
+                                                       Eigen::Index columns);
+
+/// Any array-like of integers with shape (n, columns) → C-contiguous int32 array. Booleans and
+/// floats are rejected (a float index is a bug upstream), so are values outside int32.
+IndexArray as_index_matrix(const py::handle& object, const char* name,
+                                                     Eigen::Index columns);
+
+/// Read-only Eigen views on arrays produced by as_real_matrix / as_index_matrix (no copy).
+inline Eigen::Map<const VertexMatrix> map_vertices(const RealArray& a) {
+  return {a.data(), a.shape(0), 3};
+}
+inline Eigen::Map<const FaceMatrix> map_faces(const IndexArray& a) {
+  return {a.data(), a.shape(0), 3};
+}
+
+/// Moves a row-major Eigen matrix into a numpy array without copying its data.
+template <typename Matrix>
+py::array_t<typename Matrix::Scalar> to_numpy(Matrix&& matrix) {
+  using Stored = std::decay_t<Matrix>;
+  static_assert(Stored::IsRowMajor || Stored::ColsAtCompileTime == 1, "row-major matrices only");
+  auto* owned = new Stored(std::forward<Matrix>(matrix));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<Stored*>(p); });
+  using Scalar = typename Stored::Scalar;
+  if constexpr (Stored::ColsAtCompileTime == 1) {
+    return py::array_t<Scalar>({owned->rows()}, {sizeof(Scalar)}, owned->data(), free_when_done);
+  } else {
+    return py::array_t<Scalar>({owned->rows(), owned->cols()},
+                               {sizeof(Scalar) * owned->cols(), sizeof(Scalar)}, owned->data(),
+                               free_when_done);
+  }
+}
+
+/// Index matrices go out as int64 (DESIGN.md: "int64 out").
+template <typename Derived>
+py::array_t<std::int64_t> indices_to_numpy(const Eigen::MatrixBase<Derived>& indices) {
+  py::array_t<std::int64_t> out({indices.rows(), indices.cols()});
+  auto view = out.template mutable_unchecked<2>();
+  for (Eigen::Index r = 0; r < indices.rows(); ++r)
+    for (Eigen::Index c = 0; c < indices.cols(); ++c) view(r, c) = indices(r, c);
+  return out;
+}
+
+/// A Progress that forwards to a Python callable `(fraction, stage) -> bool | None` (None or
+/// `callback is None` means "go on"; False cancels) and that checks for Ctrl-C on every call,
+/// so long C++ loops stop promptly on KeyboardInterrupt. Call the algorithm with the GIL
+/// released: the callback re-acquires it.
+Progress make_progress(const py::object& callback);
+
+}  // namespace meshsmith::python

@@ -1,0 +1,71 @@
+// Bindings of the core chapter: validation, defects, OpenMesh conversion, build information.
+#include "bindings.h"
+#include "convert.h"
+
+#include <meshsmith/core/build_info.h>
+#include <meshsmith/core/mesh.h>
+#include <meshsmith/core/validation.h>
+
+#include <pybind11/stl.h>
+
+#include <thread>
+
+namespace meshsmith::python {
+
+void bind_core(py::module_& m) {
+  m.def("validate_mesh", [](const py::object& V, const py::object& F) {
+    auto vertices = as_real_matrix(V, "V", 3);
+    auto faces = as_index_matrix(F, "F", 3);
+    py::gil_scoped_release release;
+    validate_mesh(map_vertices(vertices), map_faces(faces));
+  }, py::arg("V"), py::arg("F"));
+
+  m.def("find_mesh_defects", [](const py::object& V, const py::object& F, double area_tolerance) {
+    auto vertices = as_real_matrix(V, "V", 3);
+    auto faces = as_index_matrix(F, "F", 3);
+    MeshDefects defects;
+    {
+      py::gil_scoped_release release;
+      validate_mesh(map_vertices(vertices), map_faces(faces));
+      defects = find_mesh_defects(map_vertices(vertices), map_faces(faces), area_tolerance);
+    }
+    py::dict out;
+    out["degenerate_faces"] = py::array_t<int>(defects.degenerate_faces.size(), defects.degenerate_faces.data());
+    out["zero_area_faces"] = py::array_t<int>(defects.zero_area_faces.size(), defects.zero_area_faces.data());
+    out["duplicate_faces"] = py::array_t<int>(defects.duplicate_faces.size(), defects.duplicate_faces.data());
+    out["unreferenced_vertices"] = py::array_t<int>(defects.unreferenced_vertices.size(), defects.unreferenced_vertices.data());
+    out["summary"] = defects.summary();
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("area_tolerance") = 0.0);
+
+  m.def("trimesh_roundtrip", [](const py::object& V, const py::object& F) {
+    auto vertices = as_real_matrix(V, "V", 3);
+    auto faces = as_index_matrix(F, "F", 3);
+    Mesh mesh;
+    {
+      py::gil_scoped_release release;
+      mesh = from_trimesh(to_trimesh(map_vertices(vertices), map_faces(faces)));
+    }
+    return py::make_tuple(to_numpy(std::move(mesh.V)), indices_to_numpy(mesh.F));
+  }, py::arg("V"), py::arg("F"),
+  "Builds the OpenMesh TriMesh of (V, F) and converts it back (checks manifoldness on the way).");
+
+  m.def("progress_loop", [](int steps, double seconds_per_step, const py::object& callback) {
+    // Exercises the progress plumbing exactly as a long algorithm does: GIL released, report()
+    // from the loop, Ctrl-C and cancellation honoured. Returns the number of steps completed.
+    Progress progress = make_progress(callback);
+    py::gil_scoped_release release;
+    int done = 0;
+    for (; done < steps; ++done) {
+      progress.report(static_cast<double>(done) / steps, "progress_loop");
+      std::this_thread::sleep_for(std::chrono::duration<double>(seconds_per_step));
+    }
+    progress.report(1.0, "progress_loop");
+    return done;
+  }, py::arg("steps"), py::arg("seconds_per_step"), py::arg("callback") = py::none());
+
+  m.def("version", &version);
+  m.def("dependency_versions", &dependency_versions);
+}
+
+}  // namespace meshsmith::python

@@ -1,0 +1,22 @@
+// meshsmith._core: the compiled half of the Python package. One submodule per chapter.
+#include "bindings.h"
+
+#include <meshsmith/core/errors.h>
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "meshsmith C++ core (use the meshsmith package, not this module directly)";
+  py::register_exception<meshsmith::InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<meshsmith::SolverError>(m, "SolverError", PyExc_RuntimeError);
+  py::register_exception<meshsmith::Cancelled>(m, "Cancelled", PyExc_Exception);
+
+  auto core = m.def_submodule("core");
+  meshsmith::python::bind_core(core);
+  auto io = m.def_submodule("io");
+  meshsmith::python::bind_io(io);
+  auto topology = m.def_submodule("topology");
+  meshsmith::python::bind_topology(topology);
+  auto render = m.def_submodule("render");
+  meshsmith::python::bind_render(render);
+}

@@ -1,0 +1,14 @@
+"""meshsmith: geometry processing for Python with a C++17 core.
+
+Arrays in, arrays out: vertices ``V`` are float64 (n, 3), faces ``F`` are integer (m, 3).
+Chapters are submodules (``meshsmith.io``, ``meshsmith.topology``, ...); errors are
+:class:`InputError` (bad input, a ``ValueError``), :class:`SolverError` (a ``RuntimeError``)
+and :class:`Cancelled` (a progress callback returned False).
+"""
+from ._core import Cancelled, InputError, SolverError
+from . import core, datasets, io, topology
+
+__version__ = core.version()
+
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "datasets",
+           "__version__"]

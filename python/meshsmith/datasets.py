@@ -1,0 +1,1 @@
+"""meshsmith.datasets (being written)."""

@@ -1,0 +1,1 @@
+"""meshsmith.io (being written)."""

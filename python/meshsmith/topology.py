@@ -1,0 +1,1 @@
+"""meshsmith.topology (being written)."""
