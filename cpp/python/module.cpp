@@ -17,6 +17,8 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_io(io);
   auto topology = m.def_submodule("topology");
   meshsmith::python::bind_topology(topology);
+  auto geometry = m.def_submodule("geometry");
+  meshsmith::python::bind_geometry(geometry);
   auto render = m.def_submodule("render");
   meshsmith::python::bind_render(render);
 }

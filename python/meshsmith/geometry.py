@@ -1,0 +1,1 @@
+"""meshsmith.geometry (being written)."""
