@@ -1,0 +1,4 @@
+"""`python -m meshsmith ...` is the `meshsmith` command."""
+from .cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,172 @@
+"""The `meshsmith` command line: one subcommand per task, mirroring the chapters.
+
+    meshsmith info FILE
+    meshsmith convert IN OUT [--binary | --ascii]
+    meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
+    meshsmith demo [--out DIR] [--input FILE]
+
+Every command has --help. Bad input prints one line `meshsmith: error: ...` on stderr and exits
+with status 1 (status 2 for a malformed command line, as argparse does).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import InputError, SolverError, Cancelled
+
+
+class ProgressBar:
+    """A progress callback `(fraction, stage) -> True` that draws a bar on stderr.
+
+    Draws only when stderr is a terminal (or `force`), so logs and pipes stay clean.
+    """
+
+    def __init__(self, width: int = 30, force: bool = False, stream=None):
+        self.stream = stream or sys.stderr
+        self.enabled = force or self.stream.isatty()
+        self.width, self.start, self.last_stage = width, time.perf_counter(), None
+
+    def __call__(self, fraction: float, stage: str) -> bool:
+        if self.enabled:
+            filled = int(round(fraction * self.width))
+            elapsed = time.perf_counter() - self.start
+            self.stream.write(f"\r{stage:<24.24} [{'#' * filled}{'.' * (self.width - filled)}] "
+                              f"{100 * fraction:5.1f}%  {elapsed:6.1f}s")
+            if fraction >= 1.0:
+                self.stream.write("\n")
+            self.stream.flush()
+        return True
+
+
+def _read_mesh(path: str):
+    from . import io
+    return io.read_mesh(path)
+
+
+def command_info(args) -> int:
+    from . import topology
+    V, F = _read_mesh(args.file)
+    summary = topology.info(V, F)
+    if args.json:
+        print(json.dumps(summary.as_dict(), indent=2))
+    else:
+        print(f"{args.file}")
+        print(summary)
+    return 0
+
+
+def command_convert(args) -> int:
+    from . import io
+    V, F = io.read_mesh(args.input)
+    options = {}
+    if args.binary or args.ascii:
+        options["binary"] = bool(args.binary)
+    io.write_mesh(args.output, V, F, **options)
+    print(f"wrote {args.output}: {len(V)} vertices, {len(F)} faces")
+    return 0
+
+
+def scalar_field(name: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, str]:
+    """A per-vertex scalar for `--scalar`: a coordinate, the valence, or values from a .npy file."""
+    if name in ("x", "y", "z"):
+        return V[:, "xyz".index(name)].copy(), f"{name} coordinate"
+    if name == "valence":
+        return np.bincount(np.asarray(F).ravel(), minlength=len(V)).astype(float), "vertex valence"
+    path = Path(name)
+    if path.suffix == ".npy":
+        if not path.is_file():
+            raise InputError(f"scalar file {name} does not exist")
+        values = np.load(path, allow_pickle=False)
+        if values.ndim != 1 or len(values) != len(V):
+            raise InputError(f"scalar file {name} holds shape {values.shape}: expected ({len(V)},), one value per vertex")
+        return values.astype(float), path.stem
+    raise InputError(f"unknown scalar '{name}': use x, y, z, valence or a .npy file of per-vertex values")
+
+
+def command_render(args) -> int:
+    from . import render
+    V, F = _read_mesh(args.input)
+    options = dict(size=(args.width, args.height), wireframe=args.wireframe, flat=args.flat)
+    if args.scalar:
+        options["scalar"], options["scalar_label"] = scalar_field(args.scalar, V, F)
+        options["cmap"] = args.cmap
+    if args.views:
+        options["views"] = args.views.split(",")
+    render.render(V, F, args.output, title=args.title or Path(args.input).name, **options)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def command_demo(args) -> int:
+    from . import demo
+    report = demo.run_demo(Path(args.out), input_path=args.input, progress=ProgressBar())
+    print(f"demo report: {report}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="meshsmith", description="Geometry processing: the classic curriculum.")
+    parser.add_argument("--version", action="version", version=f"meshsmith {_version()}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    info = commands.add_parser("info", help="counts, topology, bounding box, area and volume of a mesh",
+                               description="Print counts, topology (components, boundary loops, genus, "
+                                           "manifoldness, orientation), bounding box, area and volume.")
+    info.add_argument("file", help="mesh file (OBJ, OFF, PLY, STL)")
+    info.add_argument("--json", action="store_true", help="print the figures as JSON")
+    info.set_defaults(run=command_info)
+
+    convert = commands.add_parser("convert", help="convert between mesh formats",
+                                  description="Read a mesh and write it in the format given by OUT's extension.")
+    convert.add_argument("input")
+    convert.add_argument("output")
+    encoding = convert.add_mutually_exclusive_group()
+    encoding.add_argument("--binary", action="store_true", help="binary PLY/STL/OFF")
+    encoding.add_argument("--ascii", action="store_true", help="ASCII PLY/STL/OFF")
+    convert.set_defaults(run=command_convert)
+
+    render = commands.add_parser("render", help="render a mesh to a PNG picture",
+                                 description="Render a shaded picture of a mesh, optionally coloured by a scalar.")
+    render.add_argument("input")
+    render.add_argument("-o", "--output", required=True, help="output PNG")
+    render.add_argument("--scalar", help="colour by x, y, z, valence, or a .npy file of per-vertex values")
+    render.add_argument("--cmap", default="viridis", help="colormap for --scalar (viridis, magma, coolwarm)")
+    render.add_argument("--wireframe", action="store_true", help="draw the edges")
+    render.add_argument("--flat", action="store_true", help="flat shading (one normal per face)")
+    render.add_argument("--views", help="comma-separated views, e.g. front,left,top,three-quarter")
+    render.add_argument("--width", type=int, default=800)
+    render.add_argument("--height", type=int, default=600)
+    render.add_argument("--title", help="title drawn on the picture (default: the file name)")
+    render.set_defaults(run=command_render)
+
+    demo = commands.add_parser("demo", help="run the whole pipeline and write an HTML report",
+                               description="Run every stage of meshsmith on a built-in shape (or --input) "
+                                           "and write outputs and an HTML report with pictures.")
+    demo.add_argument("--out", default="meshsmith-demo", help="output folder (default: meshsmith-demo)")
+    demo.add_argument("--input", help="mesh file to use instead of the built-in shape")
+    demo.set_defaults(run=command_demo)
+    return parser
+
+
+def _version() -> str:
+    from . import __version__
+    return __version__
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except (InputError, SolverError, OSError) as error:
+        message = str(error).splitlines()[0] if str(error) else type(error).__name__
+        print(f"meshsmith: error: {message}", file=sys.stderr)
+        return 1
+    except (Cancelled, KeyboardInterrupt):
+        print("meshsmith: cancelled", file=sys.stderr)
+        return 130

@@ -1,0 +1,144 @@
+"""`meshsmith demo`: run every chapter on one mesh and write an HTML report with pictures.
+
+Each stage is a function `stage(context) -> Section`, listed in STAGES in pipeline order; later
+chapters add their stage (decimation, curvature, parametrization, ...) to that list. A stage
+writes its outputs into `context.out` and returns the HTML section that shows them.
+"""
+from __future__ import annotations
+
+import html
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+
+@dataclass
+class DemoContext:
+    out: Path
+    name: str                 # what the input is, for captions
+    V: np.ndarray
+    F: np.ndarray
+    uv: np.ndarray | None = None   # texture coordinates when the built-in shape has natural ones
+    figures: dict = field(default_factory=dict)  # every stage's numbers, saved as results.json
+
+
+@dataclass
+class Section:
+    title: str
+    text: str
+    table: dict[str, object] = field(default_factory=dict)
+    images: list[tuple[str, str]] = field(default_factory=list)  # (file name, caption)
+
+
+def builtin_shape() -> tuple[str, np.ndarray, np.ndarray, np.ndarray]:
+    """The default demo input: a torus (genus 1) with its angular texture coordinates."""
+    from . import datasets
+    V, F = datasets.torus(major_radius=1.0, minor_radius=0.4, n_major=96, n_minor=48)
+    around = np.arctan2(V[:, 1], V[:, 0])                       # angle around the main axis
+    ring = np.hypot(V[:, 0], V[:, 1]) - 1.0
+    tube = np.arctan2(V[:, 2], ring)                            # angle around the tube
+    uv = np.column_stack([(around + np.pi) / (2 * np.pi), (tube + np.pi) / (2 * np.pi)])
+    return "built-in torus (R = 1, r = 0.4)", V, F, uv
+
+
+def stage_input(context: DemoContext) -> Section:
+    from . import io, topology
+    io.write_mesh(context.out / "input.ply", context.V, context.F)
+    summary = topology.info(context.V, context.F)
+    context.figures["input"] = summary.as_dict()
+    table = {key: value for key, value in summary.as_dict().items()}
+    return Section("Input", f"{html.escape(context.name)}, written as <code>input.ply</code>; "
+                            "the figures of <code>meshsmith info</code>.", table)
+
+
+def stage_pictures(context: DemoContext) -> Section:
+    from . import render
+    images = []
+    render.render(context.V, context.F, context.out / "shaded.png",
+                  views=["three-quarter", "front", "top", "left"], size=(520, 400), title=context.name)
+    images.append(("shaded.png", "smooth shading from four views"))
+    render.render(context.V, context.F, context.out / "wireframe.png", wireframe=True,
+                  size=(900, 650), title="wireframe")
+    images.append(("wireframe.png", "the triangles"))
+    valence = np.bincount(context.F.ravel(), minlength=len(context.V)).astype(float)
+    render.render(context.V, context.F, context.out / "valence.png", scalar=valence,
+                  scalar_label="vertex valence", cmap="coolwarm", size=(900, 650), title="vertex valence")
+    images.append(("valence.png", "per-vertex scalar field with a colour bar: vertex valence"))
+    if context.uv is not None:
+        render.render(context.V, context.F, context.out / "checkerboard.png", uv=context.uv,
+                      size=(900, 650), title="texture coordinates")
+        images.append(("checkerboard.png", "checkerboard texture through the shape's texture coordinates"))
+    context.figures["valence"] = {"min": float(valence.min()), "max": float(valence.max()),
+                                  "mean": float(valence.mean())}
+    return Section("Pictures", "meshsmith.render: shaded views, wireframe, a scalar field, a texture.",
+                   context.figures["valence"], images)
+
+
+STAGES = [stage_input, stage_pictures]
+
+
+def run_demo(out: Path, input_path: str | None = None, progress=None) -> Path:
+    """Run every stage and write `out/index.html`; returns its path.
+
+    input_path: a mesh file to use instead of the built-in shape. progress: an optional
+    `(fraction, stage) -> bool` callback, told at the start and end of each stage.
+    """
+    from . import core, io
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    if input_path:
+        V, F = io.read_mesh(input_path)
+        context = DemoContext(out, Path(input_path).name, V, F)
+    else:
+        name, V, F, uv = builtin_shape()
+        context = DemoContext(out, name, V, F, uv)
+    sections, timings = [], {}
+    for index, stage in enumerate(STAGES):
+        label = stage.__name__.removeprefix("stage_")
+        if progress:
+            progress(index / len(STAGES), label)
+        start = time.perf_counter()
+        sections.append(stage(context))
+        timings[label] = time.perf_counter() - start
+    if progress:
+        progress(1.0, "done")
+    context.figures["seconds_per_stage"] = timings
+    (out / "results.json").write_text(json.dumps(context.figures, indent=2, default=str))
+    report = out / "index.html"
+    report.write_text(_html(context, sections, timings, core.version(), core.dependency_versions()))
+    return report
+
+
+def _html(context, sections, timings, version, dependencies) -> str:
+    def cell(value):
+        if isinstance(value, float):
+            return f"{value:.6g}"
+        if isinstance(value, (list, tuple)):
+            return ", ".join(cell(v) for v in value)
+        return html.escape(str(value))
+
+    parts = [f"""<!doctype html><html><head><meta charset="utf-8"><title>meshsmith demo</title>
+<style>body{{font-family:system-ui,sans-serif;max-width:1000px;margin:2em auto;color:#222}}
+h1{{font-weight:600}} h2{{border-bottom:1px solid #ddd;padding-bottom:.2em;margin-top:2em}}
+table{{border-collapse:collapse;font-size:.9em}} td{{padding:.15em .8em;border-bottom:1px solid #eee}}
+td:first-child{{color:#555}} figure{{margin:1em 0}} img{{max-width:100%;border:1px solid #eee}}
+figcaption{{color:#555;font-size:.9em}} .meta{{color:#777;font-size:.85em}}</style></head><body>
+<h1>meshsmith demo</h1>
+<p class="meta">meshsmith {html.escape(version)} &middot; input: {html.escape(context.name)} &middot;
+{len(context.V)} vertices, {len(context.F)} faces &middot; built with
+{html.escape(", ".join(f"{k} {v}" for k, v in dependencies.items()))}</p>"""]
+    for section, seconds in zip(sections, timings.values()):
+        parts.append(f"<h2>{html.escape(section.title)}</h2><p>{section.text} "
+                     f"<span class='meta'>({seconds:.2f} s)</span></p>")
+        if section.table:
+            rows = "".join(f"<tr><td>{html.escape(str(k))}</td><td>{cell(v)}</td></tr>"
+                           for k, v in section.table.items())
+            parts.append(f"<table>{rows}</table>")
+        for image, caption in section.images:
+            parts.append(f"<figure><img src='{html.escape(image)}' alt='{html.escape(caption)}'>"
+                         f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+    parts.append("</body></html>")
+    return "\n".join(parts)
