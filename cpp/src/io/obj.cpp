@@ -61,7 +61,7 @@ void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword,
   double value;
   while (tokens.next(token)) {
     if (!parse_double(token, value))
-      lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a finite number in a '" +
+      lines.fail(quoted(token) + " is not a finite number in a '" +
                  keyword + "' statement");
     if (count < store) out.push_back(value);
     if (++count > maximum)
@@ -104,26 +104,26 @@ PolygonMesh parse_obj(const std::string& path, std::string_view text, const Read
         std::size_t start = 0;
         for (std::size_t i = 0; i <= corner.size(); ++i) {
           if (i == corner.size() || corner[i] == '/') {
-            if (part_count == 3) lines.fail("face corner '" + std::string(corner.substr(0, 40)) + "' has more than 3 parts");
+            if (part_count == 3) lines.fail("face corner " + quoted(corner) + " has more than 3 parts");
             parts[part_count++] = corner.substr(start, i - start);
             start = i + 1;
           }
         }
         std::int64_t value;
         if (!parse_integer(parts[0], value))
-          lines.fail("'" + std::string(corner.substr(0, 40)) + "' is not a face corner (v, v/vt, v//vn or v/vt/vn)");
+          lines.fail(quoted(corner) + " is not a face corner (v, v/vt, v//vn or v/vt/vn)");
         mesh.face_vertices.push_back(
             vertex_index.resolve(lines, value, static_cast<std::int64_t>(positions.size() / 3)));
         int uv = -1, normal = -1;
         if (part_count > 1 && !parts[1].empty()) {
           if (!parse_integer(parts[1], value))
-            lines.fail("'" + std::string(corner.substr(0, 40)) + "' has a texture coordinate index that is not an integer");
+            lines.fail(quoted(corner) + " has a texture coordinate index that is not an integer");
           uv = uv_index.resolve(lines, value, uv_count);
           any_uv = true;
         }
         if (part_count > 2 && !parts[2].empty()) {
           if (!parse_integer(parts[2], value))
-            lines.fail("'" + std::string(corner.substr(0, 40)) + "' has a normal index that is not an integer");
+            lines.fail(quoted(corner) + " has a normal index that is not an integer");
           normal = normal_index.resolve(lines, value, normal_count);
           any_normal = true;
         }
@@ -141,7 +141,7 @@ PolygonMesh parse_obj(const std::string& path, std::string_view text, const Read
       ++normal_count;
       parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, normals);
     } else if (!is_ignored_statement(keyword)) {
-      lines.fail("unknown OBJ statement '" + std::string(keyword.substr(0, 40)) + "'");
+      lines.fail("unknown OBJ statement " + quoted(keyword));
     }
   }
   const std::int64_t vertex_count = static_cast<std::int64_t>(positions.size() / 3);

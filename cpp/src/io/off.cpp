@@ -17,7 +17,7 @@ bool is_off_keyword(std::string_view keyword, const LineReader& lines) {
   if (!prefix.empty() && prefix[0] == 'C') prefix.remove_prefix(1);
   if (!prefix.empty() && prefix[0] == 'N') prefix.remove_prefix(1);
   if (!prefix.empty() && (prefix[0] == '4' || prefix[0] == 'n'))
-    lines.fail("'" + std::string(keyword) + "': only 3D OFF files are supported");
+    lines.fail(quoted(keyword) + ": only 3D OFF files are supported");
   return prefix.empty();
 }
 
@@ -44,7 +44,7 @@ PolygonMesh parse_binary_off(const std::string& path, std::string_view bytes, st
   const std::int64_t vertex_count = in.read<std::int32_t>("the vertex count");
   const std::int64_t face_count = in.read<std::int32_t>("the face count");
   in.read<std::int32_t>("the edge count");
-  check_counts(vertex_count, face_count, in.remaining_bytes(), 12, 20,
+  check_counts(vertex_count, face_count, in.remaining_bytes(), 12, 4,
                [&](const std::string& message) { in.fail(message); });
   PolygonMesh mesh;
   mesh.V.resize(vertex_count, 3);
@@ -83,7 +83,7 @@ void check_trailing_numbers(const LineReader& lines, Tokens& tokens) {
   double ignored;
   while (tokens.next(token))
     if (!parse_double(token, ignored))
-      lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a number");
+      lines.fail(quoted(token) + " is not a number");
 }
 
 }  // namespace
@@ -110,7 +110,7 @@ PolygonMesh parse_off(const std::string& path, std::string_view text) {
     lines.fail("expected the vertex and face counts");
   if (counts.next(token) && !parse_integer(token, edge_count)) lines.fail("the edge count is not an integer");
   if (!counts.empty()) lines.fail("unexpected values after the counts");
-  check_counts(vertex_count, face_count, lines.remaining_bytes(), 6, 8,
+  check_counts(vertex_count, face_count, lines.remaining_bytes(), 4, 4,
                [&](const std::string& message) { lines.fail(message); });
 
   PolygonMesh mesh;
@@ -122,7 +122,7 @@ PolygonMesh parse_off(const std::string& path, std::string_view text) {
     for (int c = 0; c < 3; ++c) {
       if (!tokens.next(token)) lines.fail("vertex " + std::to_string(i) + " has fewer than 3 coordinates");
       if (!parse_double(token, mesh.V(i, c)))
-        lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a finite number");
+        lines.fail(quoted(token) + " is not a finite number");
     }
     check_trailing_numbers(lines, tokens);
   }
@@ -134,11 +134,11 @@ PolygonMesh parse_off(const std::string& path, std::string_view text) {
     Tokens tokens(line);
     std::int64_t size = 0, index = 0;
     if (!tokens.next(token) || !parse_integer(token, size))
-      lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a face size");
+      lines.fail(quoted(token) + " is not a face size");
     if (size < 3) lines.fail("face " + std::to_string(f) + " has " + std::to_string(size) + " corners (at least 3 needed)");
     for (std::int64_t k = 0; k < size; ++k) {
       if (!tokens.next(token)) lines.fail("face " + std::to_string(f) + " has fewer than the " + std::to_string(size) + " indices it announces");
-      if (!parse_integer(token, index)) lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a vertex index");
+      if (!parse_integer(token, index)) lines.fail(quoted(token) + " is not a vertex index");
       if (index < 0 || index >= vertex_count)
         lines.fail("face " + std::to_string(f) + " has vertex index " + std::to_string(index) +
                    " outside [0, " + std::to_string(vertex_count) + ")");

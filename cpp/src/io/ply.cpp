@@ -118,7 +118,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
       if (encoding == "ascii") header.encoding = Encoding::ascii;
       else if (encoding == "binary_little_endian") header.encoding = Encoding::binary_little_endian;
       else if (encoding == "binary_big_endian") header.encoding = Encoding::binary_big_endian;
-      else lines.fail("unknown PLY format '" + std::string(encoding.substr(0, 40)) + "'");
+      else lines.fail("unknown PLY format " + quoted(encoding));
       have_format = true;
     } else if (token == "element") {
       Element element;
@@ -127,7 +127,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
         lines.fail("expected 'element <name> <count>'");
       element.name = std::string(name);
       if (!parse_integer(count, element.count))
-        lines.fail("element count '" + std::string(count.substr(0, 40)) + "' is not an integer");
+        lines.fail("element count " + quoted(count) + " is not an integer");
       if (element.count < 0)
         lines.fail("negative element count " + std::to_string(element.count));
       element.header_line = lines.line_number();
@@ -146,13 +146,13 @@ Header parse_header(const std::string& path, std::string_view bytes) {
         if (!tokens.next(count_type) || !tokens.next(type) || !tokens.next(name) || !tokens.empty())
           lines.fail("expected 'property list <count type> <item type> <name>'");
         if (!scalar_from_name(count_type, property.count_type))
-          lines.fail("unknown PLY type '" + std::string(count_type.substr(0, 40)) + "'");
+          lines.fail("unknown PLY type " + quoted(count_type));
         if (!is_integral(property.count_type)) lines.fail("a list count must have an integer type");
       } else if (!tokens.next(name) || !tokens.empty()) {
         lines.fail("expected 'property <type> <name>'");
       }
       if (!scalar_from_name(type, property.type))
-        lines.fail("unknown PLY type '" + std::string(type.substr(0, 40)) + "'");
+        lines.fail("unknown PLY type " + quoted(type));
       property.name = std::string(name);
       Element& element = header.elements.back();
       if (element.name == "vertex" && !property.is_list) {
@@ -167,7 +167,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
     } else if (token == "end_header") {
       have_end = true;
     } else {
-      lines.fail("unknown PLY header keyword '" + std::string(token.substr(0, 40)) + "'");
+      lines.fail("unknown PLY header keyword " + quoted(token));
     }
   }
   if (!have_end) lines.fail("the header has no 'end_header'");
@@ -183,7 +183,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
     if (static_cast<std::uint64_t>(element.count) > (body + 1) / record ||
         needed + element.count * record > body + 1 + header.elements.size())
       throw InputError(path + ": line " + std::to_string(element.header_line) + ": element '" +
-                       element.name + "' announces " + std::to_string(element.count) +
+                       printable(element.name) + "' announces " + std::to_string(element.count) +
                        " records, more than the " + std::to_string(body) +
                        " bytes after the header can hold");
     needed += element.count * record;
@@ -365,22 +365,22 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
           std::string_view value_token = next_value(tokens, property, element, r);
           double value;
           if (!parse_double(value_token, value))
-            lines.fail("'" + std::string(value_token.substr(0, 40)) + "' is not a finite number");
+            lines.fail(quoted(value_token) + " is not a finite number");
           if (is_vertex && property.role != Role::skip) builder.vertex_value(r, property.role, value);
           continue;
         }
         std::string_view count_token = next_value(tokens, property, element, r);
         std::int64_t count;
         if (!parse_integer(count_token, count) || count < 0)
-          lines.fail("'" + std::string(count_token.substr(0, 40)) + "' is not a list length");
+          lines.fail(quoted(count_token) + " is not a list length");
         if (property.role != Role::skip) builder.begin_list(property.role);
         for (std::int64_t k = 0; k < count; ++k) {
           std::string_view item = next_value(tokens, property, element, r);
           double value;
           if (!parse_double(item, value))
-            lines.fail("'" + std::string(item.substr(0, 40)) + "' is not a finite number");
+            lines.fail(quoted(item) + " is not a finite number");
           if (property.role == Role::skip) continue;
-          if (value != std::floor(value)) lines.fail("vertex index '" + std::string(item.substr(0, 40)) + "' is not an integer");
+          if (value != std::floor(value)) lines.fail("vertex index " + quoted(item) + " is not an integer");
           std::string error = builder.list_index(value);
           if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
         }

@@ -149,7 +149,7 @@ PolygonMesh parse_ascii_stl(const std::string& path, std::string_view text) {
       if (!in_solid || loop_corners >= 0) lines.fail("'endsolid' without a matching 'solid'");
       in_solid = false;
     } else {
-      lines.fail("unknown ASCII STL keyword '" + std::string(keyword.substr(0, 40)) + "'");
+      lines.fail("unknown ASCII STL keyword " + quoted(keyword));
     }
   }
   if (loop_corners >= 0 || in_solid) lines.fail("unexpected end of file inside a solid");

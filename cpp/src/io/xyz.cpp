@@ -15,7 +15,7 @@ PointCloud parse_xyz(const std::string& path, std::string_view text) {
     double value;
     while (tokens.next(token)) {
       if (!parse_double(token, value))
-        lines.fail("'" + std::string(token.substr(0, 40)) + "' is not a finite number");
+        lines.fail(quoted(token) + " is not a finite number");
       if (++count > 6) lines.fail("more than 6 values on a line (x y z [nx ny nz])");
       values.push_back(value);
     }

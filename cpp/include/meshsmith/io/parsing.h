@@ -29,6 +29,30 @@ void write_file_contents(const std::string& path, std::string_view contents);
 /// True for ' ', '\t', '\r', '\v', '\f' (not '\n', which ends a line).
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
+/// `text` with every byte outside printable ASCII written as \xNN, so that an error message
+/// stays valid UTF-8 whatever bytes the file holds.
+inline std::string printable(std::string_view text) {
+  static const char hex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 32 && c < 127) {
+      out.push_back(ch);
+    } else {
+      out += "\\x";
+      out.push_back(hex[c >> 4]);
+      out.push_back(hex[c & 15]);
+    }
+  }
+  return out;
+}
+
+/// `token` in single quotes for an error message, cut at 40 characters.
+inline std::string quoted(std::string_view token) {
+  return "'" + std::string(token.substr(0, 40)) + (token.size() > 40 ? "...'" : "'");
+}
+
 /// Parses all of `token` as a finite double (a leading '+' is accepted). False otherwise.
 inline bool parse_double(std::string_view token, double& value) {
   const char* first = token.data();
@@ -113,7 +137,7 @@ class LineReader {
 
   /// Throws InputError "<path>: line <n>: <message>".
   [[noreturn]] void fail(const std::string& message) const {
-    throw InputError(path_ + ": line " + std::to_string(line_number_) + ": " + message);
+    throw InputError(path_ + ": line " + std::to_string(line_number_) + ": " + printable(message));
   }
 
  private:
@@ -177,7 +201,7 @@ class ByteReader {
   /// Throws InputError "<path>: byte <offset>: <message>".
   [[noreturn]] void fail(const std::string& message) const { fail_at(position_, message); }
   [[noreturn]] void fail_at(std::size_t offset, const std::string& message) const {
-    throw InputError(path_ + ": byte " + std::to_string(offset) + ": " + message);
+    throw InputError(path_ + ": byte " + std::to_string(offset) + ": " + printable(message));
   }
 
  private:
