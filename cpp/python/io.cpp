@@ -1,9 +1,173 @@
-// Bindings of the io chapter.
+// Bindings of the io chapter: read/write meshes and point clouds (meshsmith::io).
 #include "bindings.h"
 #include "convert.h"
 
+#include <meshsmith/io/mesh_io.h>
+
 namespace meshsmith::python {
 
-void bind_io(py::module_& m) {}
+namespace {
+
+using Int64Column = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>;
+using Int64Triangles = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+io::Format format_argument(const py::object& format) {
+  if (format.is_none()) return io::Format::automatic;
+  return io::format_from_name(py::str(format));
+}
+
+Int64Column to_int64(const std::vector<int>& values) {
+  Int64Column out(static_cast<Eigen::Index>(values.size()));
+  for (std::size_t k = 0; k < values.size(); ++k) out[k] = values[k];
+  return out;
+}
+
+Int64Column to_int64(const std::vector<std::int64_t>& values) {
+  return Eigen::Map<const Int64Column>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+/// Flat corner indices from an (n, columns) integer array-like (checked by as_index_matrix).
+std::vector<int> corner_indices(const py::object& object, const char* name, Eigen::Index columns) {
+  IndexArray array = as_index_matrix(object, name, columns);
+  return std::vector<int>(array.data(), array.data() + array.size());
+}
+
+VertexMatrix real_rows(const py::object& object, const char* name, Eigen::Index columns) {
+  RealArray array = as_real_matrix(object, name, columns);
+  VertexMatrix out(array.shape(0), 3);
+  for (py::ssize_t r = 0; r < array.shape(0); ++r)
+    for (py::ssize_t c = 0; c < 3; ++c) out(r, c) = c < columns ? array.data()[r * columns + c] : 0.0;
+  return out;
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+  m.def("read_mesh", [](const std::string& path, const py::object& format, bool triangulate,
+                        bool with_uv, bool with_normals) {
+    io::ReadOptions options;
+    options.format = format_argument(format);
+    options.with_uv = with_uv;
+    options.with_normals = with_normals;
+    io::PolygonMesh mesh;
+    Int64Triangles F, F_uv, F_normal;
+    Int64Column offsets, indices, uv_indices, normal_indices;
+    {
+      py::gil_scoped_release release;
+      mesh = io::read_mesh(path, options);
+      if (triangulate) {
+        F = io::triangulate_fan(mesh.face_offsets, mesh.face_vertices).cast<std::int64_t>();
+        if (!mesh.face_uvs.empty()) F_uv = io::triangulate_fan(mesh.face_offsets, mesh.face_uvs).cast<std::int64_t>();
+        if (!mesh.face_normals.empty()) F_normal = io::triangulate_fan(mesh.face_offsets, mesh.face_normals).cast<std::int64_t>();
+      } else {
+        offsets = to_int64(mesh.face_offsets);
+        indices = to_int64(mesh.face_vertices);
+        uv_indices = to_int64(mesh.face_uvs);
+        normal_indices = to_int64(mesh.face_normals);
+      }
+    }
+    py::dict out;
+    out["V"] = to_numpy(std::move(mesh.V));
+    const bool has_uv = !mesh.face_uvs.empty(), has_normals = !mesh.face_normals.empty();
+    out["UV"] = has_uv ? py::object(to_numpy(std::move(mesh.UV))) : py::none();
+    out["N"] = has_normals ? py::object(to_numpy(std::move(mesh.N))) : py::none();
+    if (triangulate) {
+      out["F"] = to_numpy(std::move(F));
+      out["F_uv"] = has_uv ? py::object(to_numpy(std::move(F_uv))) : py::none();
+      out["F_normal"] = has_normals ? py::object(to_numpy(std::move(F_normal))) : py::none();
+    } else {
+      out["offsets"] = to_numpy(std::move(offsets));
+      out["indices"] = to_numpy(std::move(indices));
+      out["uv_indices"] = has_uv ? py::object(to_numpy(std::move(uv_indices))) : py::none();
+      out["normal_indices"] = has_normals ? py::object(to_numpy(std::move(normal_indices))) : py::none();
+    }
+    return out;
+  }, py::arg("path"), py::arg("format") = py::none(), py::arg("triangulate") = true,
+     py::arg("with_uv") = false, py::arg("with_normals") = false,
+     "Reads a mesh file; returns a dict of numpy arrays (see meshsmith.io.read_mesh).");
+
+  m.def("write_mesh", [](const std::string& path, const py::object& V, const py::object& F,
+                         const py::object& offsets, const py::object& UV, const py::object& F_uv,
+                         const py::object& N, const py::object& F_normal,
+                         const py::object& format, bool binary, bool big_endian) {
+    // Triangles: F (m, 3), F_uv / F_normal (m, 3). Polygons: F is the flat corner list (k, 1)
+    // with `offsets` (m+1, 1), and F_uv / F_normal are flat lists like F.
+    const bool polygons = !offsets.is_none();
+    const Eigen::Index columns = polygons ? 1 : 3;
+    io::PolygonMesh mesh;
+    io::WriteOptions options;
+    options.format = format_argument(format);
+    options.binary = binary;
+    options.big_endian = big_endian;
+    mesh.V = VertexMatrix(map_vertices(as_real_matrix(V, "V", 3)));
+    mesh.face_vertices = corner_indices(F, polygons ? "faces.indices" : "F", columns);
+    if (polygons) {
+      std::vector<int> starts = corner_indices(offsets, "faces.offsets", 1);
+      mesh.face_offsets.assign(starts.begin(), starts.end());
+    } else {
+      mesh.face_offsets.resize(mesh.face_vertices.size() / 3 + 1);
+      for (std::size_t f = 0; f < mesh.face_offsets.size(); ++f) mesh.face_offsets[f] = 3 * static_cast<std::int64_t>(f);
+    }
+    if (!UV.is_none()) {
+      mesh.UV = real_rows(UV, "UV", 2).leftCols<2>();
+      if (F_uv.is_none()) throw InputError("UV given without F_uv (one texture coordinate index per corner)");
+      mesh.face_uvs = corner_indices(F_uv, "F_uv", columns);
+    } else if (!F_uv.is_none()) {
+      throw InputError("F_uv given without UV");
+    }
+    if (!N.is_none()) {
+      mesh.N = VertexMatrix(map_vertices(as_real_matrix(N, "N", 3)));
+      if (!F_normal.is_none()) mesh.face_normals = corner_indices(F_normal, "F_normal", columns);
+    } else if (!F_normal.is_none()) {
+      throw InputError("F_normal given without N");
+    }
+    py::gil_scoped_release release;
+    io::write_mesh(path, mesh, options);
+  }, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("offsets") = py::none(),
+     py::arg("UV") = py::none(), py::arg("F_uv") = py::none(), py::arg("N") = py::none(),
+     py::arg("F_normal") = py::none(), py::arg("format") = py::none(), py::arg("binary") = true,
+     py::arg("big_endian") = false);
+
+  m.def("read_points", [](const std::string& path, const py::object& format) {
+    io::PointCloud points;
+    const io::Format requested = format_argument(format);
+    {
+      py::gil_scoped_release release;
+      points = io::read_points(path, requested);
+    }
+    const bool normals = points.N.rows() > 0;
+    return py::make_tuple(to_numpy(std::move(points.P)),
+                          normals ? py::object(to_numpy(std::move(points.N))) : py::none());
+  }, py::arg("path"), py::arg("format") = py::none());
+
+  m.def("write_points", [](const std::string& path, const py::object& P, const py::object& N,
+                           const py::object& format, bool binary, bool big_endian) {
+    io::PointCloud points;
+    io::WriteOptions options;
+    options.format = format_argument(format);
+    options.binary = binary;
+    options.big_endian = big_endian;
+    points.P = VertexMatrix(map_vertices(as_real_matrix(P, "P", 3)));
+    if (!N.is_none()) points.N = VertexMatrix(map_vertices(as_real_matrix(N, "N", 3)));
+    py::gil_scoped_release release;
+    io::write_points(path, points, options);
+  }, py::arg("path"), py::arg("P"), py::arg("N") = py::none(), py::arg("format") = py::none(),
+     py::arg("binary") = true, py::arg("big_endian") = false);
+
+  m.def("triangulate_fan", [](const py::object& offsets, const py::object& indices) {
+    std::vector<int> starts = corner_indices(offsets, "offsets", 1);
+    std::vector<int> corners = corner_indices(indices, "indices", 1);
+    // Same checks as the writers: offsets start at 0, grow by >= 3, end at len(indices).
+    if (starts.empty() || starts.front() != 0) throw InputError("offsets must start at 0");
+    for (std::size_t f = 0; f + 1 < starts.size(); ++f)
+      if (starts[f + 1] - starts[f] < 3)
+        throw InputError("polygon " + std::to_string(f) + " has fewer than 3 corners");
+    if (static_cast<std::size_t>(starts.back()) != corners.size())
+      throw InputError("offsets must end at len(indices)");
+    std::vector<std::int64_t> wide(starts.begin(), starts.end());
+    Int64Triangles F = io::triangulate_fan(wide, corners).cast<std::int64_t>();
+    return to_numpy(std::move(F));
+  }, py::arg("offsets"), py::arg("indices"));
+}
 
 }  // namespace meshsmith::python

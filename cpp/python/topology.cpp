@@ -1,9 +1,156 @@
-// Bindings of the topology chapter.
+// Bindings of the topology chapter: thin wrappers over meshsmith::topology (python/meshsmith/topology.py
+// documents them for users).
 #include "bindings.h"
 #include "convert.h"
 
+#include <meshsmith/topology/boundary.h>
+#include <meshsmith/topology/characteristics.h>
+#include <meshsmith/topology/components.h>
+#include <meshsmith/topology/edge_incidence.h>
+#include <meshsmith/topology/manifold.h>
+
+#include <pybind11/stl.h>
+
+#include <cstdint>
+
 namespace meshsmith::python {
 
-void bind_topology(py::module_& m) {}
+namespace {
+
+using Int64Vector = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>;
+
+template <typename Container>
+py::array_t<std::int64_t> int64_vector(const Container& values) {
+  Int64Vector out(static_cast<Eigen::Index>(values.size()));
+  for (Eigen::Index k = 0; k < out.size(); ++k) out[k] = values[k];
+  return to_numpy(std::move(out));
+}
+
+Eigen::Index vertex_count_argument(const py::object& n_vertices) {
+  return n_vertices.is_none() ? -1 : n_vertices.cast<Eigen::Index>();
+}
+
+}  // namespace
+
+void bind_topology(py::module_& m) {
+  m.def("edges", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    EdgeMatrix result;
+    {
+      py::gil_scoped_release release;
+      result = topology::edges(map_faces(faces));
+    }
+    return indices_to_numpy(result);
+  }, py::arg("F"));
+
+  m.def("boundary_loops", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    std::vector<std::vector<int>> loops;
+    {
+      py::gil_scoped_release release;
+      loops = topology::boundary_loops(map_faces(faces));
+    }
+    py::list out;
+    for (const auto& loop : loops) out.append(int64_vector(loop));
+    return out;
+  }, py::arg("F"));
+
+  m.def("connected_components", [](const py::object& F, const py::object& n_vertices) {
+    auto faces = as_index_matrix(F, "F", 3);
+    const Eigen::Index n = vertex_count_argument(n_vertices);
+    topology::Components components;
+    {
+      py::gil_scoped_release release;
+      components = topology::connected_components(map_faces(faces), n);
+    }
+    return py::make_tuple(components.count, int64_vector(components.face_labels),
+                          int64_vector(components.vertex_labels));
+  }, py::arg("F"), py::arg("n_vertices") = py::none());
+
+  m.def("euler_characteristic", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    py::gil_scoped_release release;
+    return topology::euler_characteristic(map_faces(faces));
+  }, py::arg("F"));
+
+  m.def("genus_per_component", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    std::vector<int> genera;
+    {
+      py::gil_scoped_release release;
+      genera = topology::genus_per_component(map_faces(faces));
+    }
+    return int64_vector(genera);
+  }, py::arg("F"));
+
+  m.def("non_manifold_edges", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    EdgeMatrix result;
+    {
+      py::gil_scoped_release release;
+      result = topology::non_manifold_edges(map_faces(faces));
+    }
+    return indices_to_numpy(result);
+  }, py::arg("F"));
+
+  m.def("non_manifold_vertices", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    std::vector<int> result;
+    {
+      py::gil_scoped_release release;
+      result = topology::non_manifold_vertices(map_faces(faces));
+    }
+    return int64_vector(result);
+  }, py::arg("F"));
+
+  m.def("is_manifold", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    py::gil_scoped_release release;
+    return topology::is_manifold(map_faces(faces));
+  }, py::arg("F"));
+
+  m.def("is_oriented", [](const py::object& F) {
+    auto faces = as_index_matrix(F, "F", 3);
+    py::gil_scoped_release release;
+    return topology::is_oriented(map_faces(faces));
+  }, py::arg("F"));
+
+  m.def("split_non_manifold_vertices", [](const py::object& V, const py::object& F) {
+    auto vertices = as_real_matrix(V, "V", 3);
+    auto faces = as_index_matrix(F, "F", 3);
+    topology::SplitMesh split;
+    {
+      py::gil_scoped_release release;
+      split = topology::split_non_manifold_vertices(map_vertices(vertices), map_faces(faces));
+    }
+    return py::make_tuple(to_numpy(std::move(split.V)), indices_to_numpy(split.F),
+                          int64_vector(split.origin));
+  }, py::arg("V"), py::arg("F"));
+
+  m.def("mesh_info", [](const py::object& V, const py::object& F) {
+    auto vertices = as_real_matrix(V, "V", 3);
+    auto faces = as_index_matrix(F, "F", 3);
+    topology::MeshInfo info;
+    {
+      py::gil_scoped_release release;
+      info = topology::mesh_info(map_vertices(vertices), map_faces(faces));
+    }
+    py::dict out;
+    out["n_vertices"] = info.n_vertices;
+    out["n_faces"] = info.n_faces;
+    out["n_edges"] = info.n_edges;
+    out["n_components"] = info.n_components;
+    out["n_boundary_loops"] = info.n_boundary_loops;
+    out["n_boundary_edges"] = info.n_boundary_edges;
+    out["euler_characteristic"] = info.euler_characteristic;
+    out["genus"] = info.genus ? py::object(py::int_(*info.genus)) : py::object(py::none());
+    out["is_manifold"] = info.is_manifold;
+    out["is_oriented"] = info.is_oriented;
+    out["n_non_manifold_edges"] = info.n_non_manifold_edges;
+    out["n_non_manifold_vertices"] = info.n_non_manifold_vertices;
+    out["n_unreferenced_vertices"] = info.n_unreferenced_vertices;
+    return out;
+  }, py::arg("V"), py::arg("F"));
+}
 
 }  // namespace meshsmith::python

@@ -1,1 +1,220 @@
-"""meshsmith.io (being written)."""
+"""Reading and writing meshes and point clouds: OBJ, OFF, PLY, STL and XYZ.
+
+The parsers are C++ (``meshsmith::io``): the file is read whole into memory and parsed with
+``std::from_chars`` with the GIL released. The format comes from the file extension
+(case-insensitive: ``.obj .off .ply .stl .xyz``) unless ``format=`` names it.
+
+=======  =========================================================================
+format   what is read / written
+=======  =========================================================================
+OBJ      ``v``, ``vt``, ``vn``, ``f v/vt/vn`` (negative indices too); other statements
+         (``o g s usemtl mtllib l p`` ...) ignored. Always written as text.
+OFF      ASCII (``OFF``, ``COFF``, ``NOFF``, ``STOFF``...: extra per-vertex and per-face
+         values ignored) and binary (``OFF BINARY``, float32 coordinates).
+PLY      ASCII and binary, either endianness; ``vertex`` (x y z, nx ny nz, u v), ``face``
+         (``vertex_indices`` or ``vertex_index``) and ``tristrips`` (-1 restarts a strip);
+         all other elements and properties, lists included, skipped by their types.
+STL      ASCII and binary; vertices with exactly equal coordinates are merged.
+XYZ      points only: 3 numbers per line, or 6 with normals.
+=======  =========================================================================
+
+Every problem with a file -- missing, a directory, empty, unknown extension, truncated, counts
+the file cannot hold, garbage tokens, indices out of range -- raises
+:class:`meshsmith.InputError` whose message starts with the file name and gives the line
+(text formats) or byte offset (binary formats).
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._core import io as _core
+
+__all__ = ["Polygons", "MeshWithAttributes", "read_mesh", "read_mesh_with_attributes",
+           "write_mesh", "read_points", "write_points"]
+
+_BINARY_BY_DEFAULT = {"ply": True, "stl": True, "off": False, "obj": False, "xyz": False}
+
+
+@dataclass(frozen=True)
+class Polygons:
+    """Faces of any sizes in compressed form.
+
+    ``offsets``: (m + 1,) int64, starting at 0; polygon ``i`` is
+    ``indices[offsets[i]:offsets[i + 1]]``. ``indices``: (k,) int64 zero-based vertex indices.
+    Every polygon has at least 3 corners.
+    """
+
+    offsets: np.ndarray
+    indices: np.ndarray
+
+    @classmethod
+    def from_list(cls, faces) -> "Polygons":
+        """Polygons from a sequence of index sequences, e.g. ``[[0, 1, 2, 3], [3, 2, 4]]``."""
+        sizes = np.array([len(face) for face in faces], dtype=np.int64)
+        offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        flat = [int(i) for face in faces for i in face]
+        return cls(offsets, np.asarray(flat, dtype=np.int64))
+
+    @classmethod
+    def from_triangles(cls, F) -> "Polygons":
+        """Polygons holding the rows of an (m, 3) triangle array."""
+        F = np.asarray(F)
+        return cls(np.arange(0, 3 * len(F) + 1, 3, dtype=np.int64),
+                   F.reshape(-1).astype(np.int64))
+
+    def __len__(self) -> int:
+        return len(self.offsets) - 1
+
+    def __getitem__(self, i: int) -> np.ndarray:
+        if not -len(self) <= i < len(self):
+            raise IndexError(f"polygon {i} out of range for {len(self)} polygons")
+        i %= len(self)
+        return self.indices[self.offsets[i]:self.offsets[i + 1]]
+
+    @property
+    def sizes(self) -> np.ndarray:
+        """(m,) int64 number of corners of each polygon."""
+        return np.diff(self.offsets)
+
+    def to_list(self) -> list[list[int]]:
+        return [self[i].tolist() for i in range(len(self))]
+
+    def triangulate(self) -> np.ndarray:
+        """(t, 3) int64 fan triangulation: polygon (v0..vk) gives (v0, vi, vi+1), in order.
+
+        Raises InputError if the offsets are malformed or a polygon has fewer than 3 corners.
+        """
+        return _core.triangulate_fan(np.asarray(self.offsets).reshape(-1, 1),
+                                     np.asarray(self.indices).reshape(-1, 1))
+
+
+@dataclass(frozen=True)
+class MeshWithAttributes:
+    """A mesh with optional texture coordinates and normals, indexed per face corner.
+
+    V: (n, 3) float64. F: (m, 3) int64 triangles, or :class:`Polygons`.
+    UV: (k, 2) float64 or None. F_uv: like F (indices into UV; -1 where a face has none) or None.
+    N: (l, 3) float64 or None. F_normal: like F (indices into N; -1 where none) or None.
+    For PLY files UV and N are per-vertex properties and F_uv / F_normal equal F.
+    """
+
+    V: np.ndarray
+    F: np.ndarray | Polygons
+    UV: np.ndarray | None = None
+    F_uv: np.ndarray | Polygons | None = None
+    N: np.ndarray | None = None
+    F_normal: np.ndarray | Polygons | None = None
+
+
+def _format(format):
+    return None if format is None else str(format).lstrip(".").lower()
+
+
+def _resolved_format(path, format) -> str:
+    if format is not None:
+        return _format(format)
+    return os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+
+
+def _read(path, triangulate, format, with_uv, with_normals) -> MeshWithAttributes:
+    out = _core.read_mesh(os.fspath(path), _format(format), bool(triangulate), with_uv,
+                          with_normals)
+    if triangulate:
+        return MeshWithAttributes(out["V"], out["F"], out["UV"], out["F_uv"], out["N"],
+                                  out["F_normal"])
+    offsets = out["offsets"]
+
+    def polygons(indices):
+        return None if indices is None else Polygons(offsets, indices)
+
+    return MeshWithAttributes(out["V"], Polygons(offsets, out["indices"]), out["UV"],
+                              polygons(out["uv_indices"]), out["N"],
+                              polygons(out["normal_indices"]))
+
+
+def read_mesh(path, *, triangulate: bool = True, format: str | None = None):
+    """Read a mesh from an OBJ, OFF, PLY or STL file.
+
+    path: str or os.PathLike. triangulate: split polygons into fans of triangles (default);
+    with False the faces come back as :class:`Polygons`. format: "obj", "off", "ply" or "stl"
+    to override the extension.
+
+    Returns (V, F): V (n, 3) float64 with every vertex record of the file (unreferenced ones
+    too; for STL the distinct corner positions in order of appearance); F (m, 3) int64, or
+    Polygons. A file without faces (a PLY point cloud) gives F with 0 rows.
+    Raises InputError (file name and line or byte offset in the message) for any bad file.
+    """
+    mesh = _read(path, triangulate, format, False, False)
+    return mesh.V, mesh.F
+
+
+def read_mesh_with_attributes(path, *, triangulate: bool = True, format: str | None = None,
+                              with_uv: bool = True, with_normals: bool = True
+                              ) -> MeshWithAttributes:
+    """Read a mesh with its texture coordinates and normals (OBJ ``vt``/``vn``; PLY u,v/nx,ny,nz).
+
+    Same arguments as :func:`read_mesh`; with_uv / with_normals choose what to keep. Returns a
+    :class:`MeshWithAttributes` whose UV / F_uv / N / F_normal are None when absent.
+    """
+    return _read(path, triangulate, format, bool(with_uv), bool(with_normals))
+
+
+def _polygon_arrays(faces):
+    """(flat indices (k, 1), offsets (m+1, 1) or None) for the binding."""
+    if isinstance(faces, Polygons):
+        return (np.asarray(faces.indices).reshape(-1, 1),
+                np.asarray(faces.offsets).reshape(-1, 1))
+    return faces, None
+
+
+def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = None,
+               big_endian: bool = False, UV=None, F_uv=None, N=None, F_normal=None) -> None:
+    """Write a mesh as OBJ, OFF, PLY or STL.
+
+    V: (n, 3) real array. F: (m, 3) integer array of triangles, or :class:`Polygons`.
+    format: overrides the extension. binary: default True for PLY and STL, False for OFF;
+    OBJ is always text. Text coordinates are written in the shortest form that reads back to
+    the same float64 (exact round trip); binary PLY stores float64; binary STL and binary OFF
+    store float32 (as those formats prescribe). big_endian: binary PLY only.
+    UV (k, 2) with F_uv (like F), N (l, 3) with F_normal (like F): written by OBJ as
+    ``f v/vt/vn``; PLY writes N as nx, ny, nz when N has n rows (F_normal may be omitted).
+    STL writes the fan triangulation with facet normals.
+    Raises InputError for bad arrays (shape, dtype, non-finite values, indices out of range)
+    or a file that cannot be written. The arrays are not modified.
+    """
+    fmt = _resolved_format(path, format)
+    if binary is None:
+        binary = _BINARY_BY_DEFAULT.get(fmt, False)
+    faces, offsets = _polygon_arrays(F)
+    if offsets is not None:
+        F_uv = _polygon_arrays(F_uv)[0] if F_uv is not None else None
+        F_normal = _polygon_arrays(F_normal)[0] if F_normal is not None else None
+    _core.write_mesh(os.fspath(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
+                     bool(binary), bool(big_endian))
+
+
+def read_points(path, *, format: str | None = None):
+    """Read a point cloud from an XYZ or PLY file.
+
+    XYZ: lines of ``x y z`` or ``x y z nx ny nz`` ('#' comments allowed). PLY: the x, y, z (and
+    nx, ny, nz) of the vertex element; other elements, faces included, are skipped.
+    Returns (P, N): P (n, 3) float64, N (n, 3) float64 or None when the file has no normals.
+    Raises InputError for any bad file.
+    """
+    return _core.read_points(os.fspath(path), _format(format))
+
+
+def write_points(path, P, N=None, *, format: str | None = None, binary: bool | None = None,
+                 big_endian: bool = False) -> None:
+    """Write a point cloud as XYZ (text, 3 or 6 columns) or PLY (binary float64 by default).
+
+    P: (n, 3) real array; N: (n, 3) normals or None. Text is written with exact round trip.
+    Raises InputError for bad arrays or a file that cannot be written.
+    """
+    fmt = _resolved_format(path, format)
+    if binary is None:
+        binary = _BINARY_BY_DEFAULT.get(fmt, False)
+    _core.write_points(os.fspath(path), P, N, _format(format), bool(binary), bool(big_endian))

@@ -1,1 +1,213 @@
-"""meshsmith.topology (being written)."""
+"""Topology chapter (§1.1): edges, boundary loops, components, Euler characteristic, genus,
+manifoldness and orientation, and the split that makes a non-manifold mesh manifold.
+
+Definitions (the same in every function; see cpp/include/meshsmith/topology/manifold.h):
+
+- An *edge* is an unordered pair of vertices joined by a side of some face; sides that join a
+  vertex to itself (faces with a repeated index) are ignored.
+- A *non-manifold edge* has more than two incident faces.
+- The *fans* of a vertex are the groups of its faces that are connected through edges at the
+  vertex with exactly two faces. A *non-manifold vertex* has more than one fan (a pinch) or is an
+  end of a non-manifold edge. Unreferenced vertices are not non-manifold.
+- A mesh is *manifold* when it has no non-manifold edge and no non-manifold vertex, and
+  *oriented* when each edge with two faces is used once in each direction.
+- Components are *vertex-connected*: faces sharing only a vertex are in the same component.
+
+Functions that take only ``F`` infer the vertex count as ``F.max() + 1``. All inputs are checked
+by the C++ core; bad input raises :class:`meshsmith.InputError`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._core import core as _core
+from ._core import geometry as _geometry
+from ._core import topology as _topology
+
+__all__ = [
+    "edges", "boundary_loops", "connected_components", "ConnectedComponents",
+    "euler_characteristic", "genus", "non_manifold_edges", "non_manifold_vertices",
+    "is_manifold", "is_oriented", "split_non_manifold_vertices", "info", "MeshInfo",
+]
+
+
+def edges(F) -> np.ndarray:
+    """Unique undirected edges of a triangle mesh.
+
+    F: (m, 3) integer array of triangles. Returns an (e, 2) int64 array of edges ``(i, j)`` with
+    ``i < j``, sorted lexicographically (the same set as ``igl.edges``).
+    Raises InputError if F is empty, not (m, 3) integers, or has a negative index.
+    """
+    return _topology.edges(F)
+
+
+def boundary_loops(F) -> list[np.ndarray]:
+    """All boundary loops, longest first (ties: smaller first vertex first).
+
+    F: (m, 3) integer array of triangles. Returns a list of int64 arrays of vertex indices. Each
+    loop starts at its smallest vertex and follows the faces' orientation, as ``igl.boundary_loop``
+    does (for an outward-oriented mesh: clockwise around the hole seen from outside); the first
+    vertex is not repeated at the end. A closed mesh gives ``[]``.
+    Raises InputError as :func:`edges`.
+    """
+    return list(_topology.boundary_loops(F))
+
+
+@dataclass(frozen=True)
+class ConnectedComponents:
+    """Vertex-connected components of a mesh, numbered in the order of their first face."""
+
+    count: int                  # number of components
+    face_labels: np.ndarray     # (m,) int64, component of each face
+    vertex_labels: np.ndarray   # (n,) int64, component of each vertex, -1 if no face uses it
+
+
+def connected_components(F, n_vertices: int | None = None) -> ConnectedComponents:
+    """Connected components of a mesh, two faces being connected when they share a vertex.
+
+    F: (m, 3) integer array of triangles. n_vertices: number of vertices n (default
+    ``F.max() + 1``); pass ``len(V)`` to get a label (-1) for trailing unreferenced vertices.
+    Face 0 is always in component 0. Raises InputError for bad F or an index >= n_vertices.
+    """
+    count, face_labels, vertex_labels = _topology.connected_components(F, n_vertices)
+    return ConnectedComponents(int(count), face_labels, vertex_labels)
+
+
+def euler_characteristic(V_or_F, F=None) -> int:
+    """Euler characteristic χ = V − E + F, V counting only the vertices some face uses.
+
+    Call as ``euler_characteristic(F)`` or ``euler_characteristic(V, F)`` (V is then validated but
+    does not change the result, since unreferenced vertices are not counted).
+    Raises InputError for bad input.
+    """
+    if F is None:
+        return int(_topology.euler_characteristic(V_or_F))
+    _core.validate_mesh(V_or_F, F)
+    return int(_topology.euler_characteristic(F))
+
+
+def genus(F, per_component: bool = False):
+    """Genus of an orientable manifold mesh, from χ = 2 − 2g − b per connected component.
+
+    F: (m, 3) integer array of triangles. Returns the sum of the components' genera (the genus of
+    their connected sum) as an int, or with ``per_component=True`` an int64 array with the genus
+    of each component (numbered as :func:`connected_components`). b counts boundary loops, so a
+    disk and a sphere both have genus 0, a torus 1.
+    Raises InputError if the mesh is not manifold (naming an offending edge or vertex) or a
+    component is not orientable (a Möbius strip), and for bad input.
+    """
+    genera = _topology.genus_per_component(F)
+    return genera if per_component else int(genera.sum())
+
+
+def non_manifold_edges(F) -> np.ndarray:
+    """Edges with more than two incident faces, as an (k, 2) int64 array (i < j, sorted)."""
+    return _topology.non_manifold_edges(F)
+
+
+def non_manifold_vertices(F) -> np.ndarray:
+    """Non-manifold vertices (more than one fan of faces, or on a non-manifold edge), ascending.
+
+    F: (m, 3) integer array. Returns a (k,) int64 array. Raises InputError for bad F.
+    """
+    return _topology.non_manifold_vertices(F)
+
+
+def is_manifold(F) -> bool:
+    """True when F has no non-manifold edge and no non-manifold vertex."""
+    return bool(_topology.is_manifold(F))
+
+
+def is_oriented(F) -> bool:
+    """True when every edge with exactly two faces is used once in each direction.
+
+    Boundary and non-manifold edges are not considered.
+    """
+    return bool(_topology.is_oriented(F))
+
+
+def split_non_manifold_vertices(V, F) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Make a mesh manifold by duplicating vertices, without moving any point.
+
+    Each vertex gets one copy per fan of faces around it, so pinch vertices come apart; since
+    fans never continue across a non-manifold edge, the faces around a non-manifold edge are
+    detached too, and the result :func:`is_manifold`. Vertex i < len(V) keeps its index (its first
+    fan keeps it), extra copies are appended; faces keep their order; unreferenced vertices stay.
+
+    V: (n, 3) float array, F: (m, 3) integer array. Returns ``(V2, F2, origin)``: V2 (n2, 3)
+    float64 with ``V2 == V[origin]``, F2 (m, 3) int64, origin (n2,) int64.
+    Raises InputError for bad input.
+    """
+    return _topology.split_non_manifold_vertices(V, F)
+
+
+@dataclass(frozen=True)
+class MeshInfo:
+    """Summary of a mesh, as printed by ``meshsmith info``."""
+
+    n_vertices: int
+    n_faces: int
+    n_edges: int
+    n_components: int
+    n_boundary_loops: int
+    n_boundary_edges: int
+    euler_characteristic: int
+    genus: int | None               # sum over components; None if non-manifold or non-orientable
+    is_manifold: bool
+    is_oriented: bool
+    n_non_manifold_edges: int
+    n_non_manifold_vertices: int
+    n_unreferenced_vertices: int
+    bounding_box: tuple[np.ndarray, np.ndarray]  # (min, max), each (3,) over all vertices
+    surface_area: float
+    volume: float                   # signed; meaningful for closed oriented meshes
+
+    def __str__(self) -> str:
+        def count(value):
+            return f"{value:,}"
+
+        def point(p):
+            return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
+
+        lo, hi = self.bounding_box
+        rows = [
+            ("vertices", count(self.n_vertices)
+             + (f"  ({count(self.n_unreferenced_vertices)} unreferenced)"
+                if self.n_unreferenced_vertices else "")),
+            ("faces", count(self.n_faces)),
+            ("edges", count(self.n_edges)),
+            ("components", count(self.n_components)),
+            ("boundary loops", f"{count(self.n_boundary_loops)}  ({count(self.n_boundary_edges)} edges)"),
+            ("Euler characteristic", str(self.euler_characteristic)),
+            ("genus", "undefined (not an orientable manifold)" if self.genus is None else str(self.genus)),
+            ("manifold", "yes" if self.is_manifold else
+             f"no  ({count(self.n_non_manifold_edges)} non-manifold edges, "
+             f"{count(self.n_non_manifold_vertices)} non-manifold vertices)"),
+            ("oriented", "yes" if self.is_oriented else "no"),
+            ("bounding box", f"{point(lo)} .. {point(hi)}"),
+            ("size", point(hi - lo)),
+            ("surface area", f"{self.surface_area:.6g}"),
+            ("volume", f"{self.volume:.6g}"
+             + ("" if self.n_boundary_edges == 0 and self.is_oriented and self.is_manifold
+                else "  (not closed and oriented: not a true volume)")),
+        ]
+        width = max(len(name) for name, _ in rows)
+        return "\n".join(f"{name:<{width}}  {value}" for name, value in rows)
+
+
+def info(V, F) -> MeshInfo:
+    """Topological and geometric summary of a mesh (see :class:`MeshInfo`; ``str()`` it to print).
+
+    V: (n, 3) float array, F: (m, 3) integer array. Runs in O(m log m).
+    Raises InputError for bad input (empty, out-of-range index, NaN/Inf).
+    """
+    counts = _topology.mesh_info(V, F)
+    points = np.asarray(V, dtype=np.float64)
+    return MeshInfo(
+        **counts,
+        bounding_box=(points.min(axis=0), points.max(axis=0)),
+        surface_area=float(_geometry.surface_area(V, F)),
+        volume=float(_geometry.volume(V, F)),
+    )

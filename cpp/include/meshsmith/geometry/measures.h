@@ -1,0 +1,27 @@
+#pragma once
+/// \file measures.h
+/// Areas and enclosed volume of a triangle mesh (§1.2, discrete surfaces: the triangle area
+/// |(b − a) × (c − a)| / 2 and the divergence theorem for volume).
+#include <meshsmith/core/types.h>
+
+namespace meshsmith::geometry {
+
+/// Area of each triangle, |(v1 − v0) × (v2 − v0)| / 2 (libigl's `doublearea` / 2).
+/// V: #V×3 positions, F: #F×3 triangles. Returns #F areas (0 for degenerate faces).
+/// \pre validate_mesh(V, F) passes (called here).
+/// \throw InputError if it does not.
+Eigen::VectorXd face_areas(const VertexRef& V, const FaceRef& F);
+
+/// Total area Σ face_areas(V, F), summed in a fixed order (same result for any thread count).
+/// \throw InputError as face_areas.
+double surface_area(const VertexRef& V, const FaceRef& F);
+
+/// Signed volume enclosed by the surface, by the divergence theorem:
+/// Σ_f v0 · (v1 × v2) / 6 over the faces (signed tetrahedra to the origin). Positive for a closed
+/// surface whose faces are counter-clockwise seen from outside (outward normals); for an open
+/// or inconsistently oriented mesh the value depends on the origin and has no meaning as a volume.
+/// V: #V×3 positions, F: #F×3 triangles.
+/// \throw InputError as face_areas.
+double volume(const VertexRef& V, const FaceRef& F);
+
+}  // namespace meshsmith::geometry

@@ -1,0 +1,249 @@
+#pragma once
+/// \file parsing.h
+/// Building blocks shared by the format readers and writers of mesh_io.h: the whole file in
+/// memory, a line cursor for text formats and a byte cursor for binary ones (both throw
+/// InputError with file name and line / byte offset), number parsing with std::from_chars, and
+/// an output buffer with exact shortest-round-trip number printing. Used by cpp/src/io only;
+/// exported because it is small and useful to C++ users writing their own readers.
+#include <meshsmith/core/errors.h>
+
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+
+namespace meshsmith::io {
+
+/// The whole content of `path`.
+/// \throw InputError if the file does not exist, is a directory or not a regular file, cannot be
+///        read, or is empty.
+std::string read_file_contents(const std::string& path);
+
+/// Writes `contents` to `path` (replacing it).
+/// \throw InputError if the file cannot be opened or written.
+void write_file_contents(const std::string& path, std::string_view contents);
+
+/// True for ' ', '\t', '\r', '\v', '\f' (not '\n', which ends a line).
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+/// `text` with every byte outside printable ASCII written as \xNN, so that an error message
+/// stays valid UTF-8 whatever bytes the file holds.
+inline std::string printable(std::string_view text) {
+  static const char hex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 32 && c < 127) {
+      out.push_back(ch);
+    } else {
+      out += "\\x";
+      out.push_back(hex[c >> 4]);
+      out.push_back(hex[c & 15]);
+    }
+  }
+  return out;
+}
+
+/// `token` in single quotes for an error message, cut at 40 characters.
+inline std::string quoted(std::string_view token) {
+  return "'" + std::string(token.substr(0, 40)) + (token.size() > 40 ? "...'" : "'");
+}
+
+/// Parses all of `token` as a finite double (a leading '+' is accepted). False otherwise.
+inline bool parse_double(std::string_view token, double& value) {
+  const char* first = token.data();
+  const char* last = first + token.size();
+  if (first != last && *first == '+') ++first;
+  if (first == last) return false;
+  auto [end, error] = std::from_chars(first, last, value);
+  if (error != std::errc() || end != last) return false;
+  return value - value == 0.0;  // rejects inf and nan
+}
+
+/// Parses all of `token` as a decimal integer (a leading '+' is accepted). False otherwise.
+inline bool parse_integer(std::string_view token, std::int64_t& value) {
+  const char* first = token.data();
+  const char* last = first + token.size();
+  if (first != last && *first == '+') ++first;
+  if (first == last) return false;
+  auto [end, error] = std::from_chars(first, last, value);
+  return error == std::errc() && end == last;
+}
+
+/// Splits a line into whitespace-separated tokens.
+class Tokens {
+ public:
+  explicit Tokens(std::string_view line) : rest_(line) {}
+  /// The next token, or false at the end of the line.
+  bool next(std::string_view& token) {
+    std::size_t i = 0;
+    while (i < rest_.size() && is_blank(rest_[i])) ++i;
+    if (i == rest_.size()) { rest_ = {}; return false; }
+    std::size_t j = i;
+    while (j < rest_.size() && !is_blank(rest_[j])) ++j;
+    token = rest_.substr(i, j - i);
+    rest_ = rest_.substr(j);
+    return true;
+  }
+  /// True when only blanks remain.
+  bool empty() const {
+    for (char c : rest_) if (!is_blank(c)) return false;
+    return true;
+  }
+  std::string_view rest() const { return rest_; }
+
+ private:
+  std::string_view rest_;
+};
+
+/// Walks a text buffer line by line ('\n' or "\r\n" endings) and reports errors with the line.
+class LineReader {
+ public:
+  LineReader(const std::string& path, std::string_view text, std::size_t first_line = 1)
+      : path_(path), text_(text), line_number_(first_line - 1) {}
+
+  /// The next line (without its ending), or false at the end of the text.
+  bool next(std::string_view& line) {
+    if (position_ >= text_.size()) return false;
+    const char* begin = text_.data() + position_;
+    const void* newline = std::memchr(begin, '\n', text_.size() - position_);
+    std::size_t length = newline ? static_cast<const char*>(newline) - begin : text_.size() - position_;
+    position_ += length + (newline ? 1 : 0);
+    if (length > 0 && begin[length - 1] == '\r') --length;
+    line = std::string_view(begin, length);
+    ++line_number_;
+    return true;
+  }
+
+  /// The next line that is not blank and, when `comment` is not 0, does not start with it
+  /// (after blanks). False at the end of the text.
+  bool next_content(std::string_view& line, char comment = '#') {
+    while (next(line)) {
+      std::size_t i = 0;
+      while (i < line.size() && is_blank(line[i])) ++i;
+      if (i < line.size() && line[i] != comment) return true;
+    }
+    return false;
+  }
+
+  std::size_t line_number() const { return line_number_; }
+  std::size_t offset() const { return position_; }
+  std::size_t remaining_bytes() const { return text_.size() - position_; }
+  const std::string& path() const { return path_; }
+
+  /// Throws InputError "<path>: line <n>: <message>".
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(path_ + ": line " + std::to_string(line_number_) + ": " + printable(message));
+  }
+
+ private:
+  const std::string& path_;
+  std::string_view text_;
+  std::size_t position_ = 0;
+  std::size_t line_number_ = 0;
+};
+
+/// Reads fixed-size little- or big-endian values from a byte buffer, checking every read.
+class ByteReader {
+ public:
+  ByteReader(const std::string& path, std::string_view bytes, std::size_t offset, bool big_endian)
+      : path_(path), bytes_(bytes), position_(offset), swap_(big_endian != host_is_big_endian()) {}
+
+  static bool host_is_big_endian() {
+    const std::uint16_t probe = 1;
+    unsigned char first;
+    std::memcpy(&first, &probe, 1);
+    return first == 0;
+  }
+
+  /// Reads a T (arithmetic) at the current offset and advances.
+  /// \throw InputError "unexpected end of file" naming `what` and the offset.
+  template <typename T>
+  T read(const char* what) {
+    require(sizeof(T), what);
+    T value = decode<T>(bytes_.data() + position_, swap_);
+    position_ += sizeof(T);
+    return value;
+  }
+
+  /// Decodes a T stored at `data` (swap bytes when `swap`).
+  template <typename T>
+  static T decode(const char* data, bool swap) {
+    static_assert(std::is_arithmetic_v<T>);
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, data, sizeof(T));
+    if (swap)
+      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+    T value;
+    std::memcpy(&value, raw, sizeof(T));
+    return value;
+  }
+
+  /// \throw InputError unless `count` more bytes are available.
+  void require(std::size_t count, const char* what) const {
+    if (count > bytes_.size() - position_)
+      fail("unexpected end of file while reading " + std::string(what) + " (" +
+           std::to_string(count) + " bytes needed, " + std::to_string(bytes_.size() - position_) +
+           " left)");
+  }
+
+  void skip(std::size_t count, const char* what) { require(count, what); position_ += count; }
+  const char* here() const { return bytes_.data() + position_; }
+  std::size_t offset() const { return position_; }
+  std::size_t remaining_bytes() const { return bytes_.size() - position_; }
+  bool swap() const { return swap_; }
+  const std::string& path() const { return path_; }
+
+  /// Throws InputError "<path>: byte <offset>: <message>".
+  [[noreturn]] void fail(const std::string& message) const { fail_at(position_, message); }
+  [[noreturn]] void fail_at(std::size_t offset, const std::string& message) const {
+    throw InputError(path_ + ": byte " + std::to_string(offset) + ": " + printable(message));
+  }
+
+ private:
+  const std::string& path_;
+  std::string_view bytes_;
+  std::size_t position_;
+  bool swap_;
+};
+
+/// An output buffer for writers: text with exact numbers, and raw binary values.
+class OutputBuffer {
+ public:
+  void text(std::string_view s) { out_.append(s); }
+  void character(char c) { out_.push_back(c); }
+  /// Shortest decimal form that reads back to exactly `value` (std::to_chars).
+  void number(double value) {
+    char buffer[32];
+    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out_.append(buffer, end);
+  }
+  void number(std::int64_t value) {
+    char buffer[24];
+    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out_.append(buffer, end);
+  }
+  void number(int value) { number(static_cast<std::int64_t>(value)); }
+  /// Appends the bytes of `value`, byte-swapped when `big_endian` differs from the host.
+  template <typename T>
+  void binary(T value, bool big_endian) {
+    char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if (big_endian != ByteReader::host_is_big_endian())
+      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+    out_.append(raw, sizeof(T));
+  }
+  void reserve(std::size_t bytes) { out_.reserve(bytes); }
+  const std::string& contents() const { return out_; }
+  /// Moves the buffer out (the OutputBuffer is empty afterwards).
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+}  // namespace meshsmith::io

@@ -1,0 +1,247 @@
+// Format dispatch, file access, fan triangulation and the checks every writer shares.
+#include <meshsmith/io/formats.h>
+#include <meshsmith/io/mesh_io.h>
+#include <meshsmith/io/parsing.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <system_error>
+
+namespace meshsmith::io {
+
+namespace {
+
+std::string lowercase(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+struct FileCloser {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+
+/// \throw InputError unless every value of `matrix` is finite.
+template <typename Matrix>
+void check_finite(const std::string& path, const Matrix& matrix, const char* name) {
+  for (Eigen::Index r = 0; r < matrix.rows(); ++r)
+    for (Eigen::Index c = 0; c < matrix.cols(); ++c)
+      if (!std::isfinite(matrix(r, c)))
+        throw InputError(path + ": cannot write: " + name + " row " + std::to_string(r) +
+                         " is not finite");
+}
+
+/// \throw InputError unless `corners` (same layout as face_vertices) index [0, count) or are -1
+/// where `allow_missing`.
+void check_corner_indices(const std::string& path, const PolygonMesh& mesh,
+                          const std::vector<int>& corners, Eigen::Index count, const char* name,
+                          bool allow_missing) {
+  for (std::int64_t f = 0; f < mesh.face_count(); ++f)
+    for (std::int64_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
+      const int index = corners[k];
+      if ((index < 0 && !(allow_missing && index == -1)) || index >= count)
+        throw InputError(path + ": cannot write: face " + std::to_string(f) + " has " + name +
+                         " index " + std::to_string(index) + " outside [0, " +
+                         std::to_string(count) + ")");
+    }
+}
+
+/// Everything a writer relies on: finite values, a well-formed offset array, indices in range.
+void check_writable(const std::string& path, const PolygonMesh& mesh) {
+  check_finite(path, mesh.V, "V");
+  check_finite(path, mesh.UV, "UV");
+  check_finite(path, mesh.N, "N");
+  const auto& offsets = mesh.face_offsets;
+  if (offsets.empty() || offsets.front() != 0)
+    throw InputError(path + ": cannot write: face offsets must start at 0");
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f)
+    if (offsets[f + 1] - offsets[f] < 3)
+      throw InputError(path + ": cannot write: face " + std::to_string(f) + " has " +
+                       std::to_string(offsets[f + 1] - offsets[f]) +
+                       " corners (at least 3 needed)");
+  if (offsets.back() != static_cast<std::int64_t>(mesh.face_vertices.size()))
+    throw InputError(path + ": cannot write: the face offsets end at " +
+                     std::to_string(offsets.back()) + " but there are " +
+                     std::to_string(mesh.face_vertices.size()) + " corner indices");
+  check_corner_indices(path, mesh, mesh.face_vertices, mesh.V.rows(), "vertex", false);
+  if (!mesh.face_uvs.empty()) {
+    if (mesh.face_uvs.size() != mesh.face_vertices.size())
+      throw InputError(path + ": cannot write: F_uv must have one index per face corner");
+    check_corner_indices(path, mesh, mesh.face_uvs, mesh.UV.rows(), "texture coordinate", true);
+  }
+  if (!mesh.face_normals.empty()) {
+    if (mesh.face_normals.size() != mesh.face_vertices.size())
+      throw InputError(path + ": cannot write: F_normal must have one index per face corner");
+    check_corner_indices(path, mesh, mesh.face_normals, mesh.N.rows(), "normal", true);
+  }
+}
+
+const char* format_name(Format format) {
+  switch (format) {
+    case Format::obj: return "OBJ";
+    case Format::off: return "OFF";
+    case Format::ply: return "PLY";
+    case Format::stl: return "STL";
+    case Format::xyz: return "XYZ";
+    default: return "automatic";
+  }
+}
+
+}  // namespace
+
+std::string read_file_contents(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (status.type() == fs::file_type::not_found)
+    throw InputError(path + ": file does not exist");
+  if (status.type() == fs::file_type::directory)
+    throw InputError(path + ": is a directory, not a file");
+  if (error) throw InputError(path + ": cannot access file: " + error.message());
+  if (status.type() != fs::file_type::regular)
+    throw InputError(path + ": not a regular file");
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) throw InputError(path + ": cannot open file: " + std::strerror(errno));
+  std::string contents;
+  const auto size = fs::file_size(path, error);
+  if (error) throw InputError(path + ": cannot read file size: " + error.message());
+  contents.resize(static_cast<std::size_t>(size));
+  const std::size_t got = size ? std::fread(contents.data(), 1, contents.size(), file.get()) : 0;
+  if (got != contents.size()) throw InputError(path + ": cannot read the whole file");
+  if (contents.empty()) throw InputError(path + ": file is empty");
+  return contents;
+}
+
+void write_file_contents(const std::string& path, std::string_view contents) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
+  if (!file)
+    throw InputError(path + ": cannot open file for writing: " + std::strerror(errno));
+  if (std::fwrite(contents.data(), 1, contents.size(), file.get()) != contents.size())
+    throw InputError(path + ": cannot write file: " + std::strerror(errno));
+  if (std::fclose(file.release()) != 0)
+    throw InputError(path + ": cannot write file: " + std::strerror(errno));
+}
+
+Format format_from_name(const std::string& name) {
+  const std::string lower = lowercase(name);
+  if (lower == "obj") return Format::obj;
+  if (lower == "off") return Format::off;
+  if (lower == "ply") return Format::ply;
+  if (lower == "stl") return Format::stl;
+  if (lower == "xyz") return Format::xyz;
+  throw InputError("unknown file format '" + name + "' (expected obj, off, ply, stl or xyz)");
+}
+
+Format resolve_format(const std::string& path, Format requested) {
+  if (requested != Format::automatic) return requested;
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (extension.size() < 2)
+    throw InputError(path + ": no file extension to tell the format (pass format=...)");
+  try {
+    return format_from_name(extension.substr(1));
+  } catch (const InputError&) {
+    throw InputError(path + ": unknown file extension '" + extension +
+                     "' (expected .obj, .off, .ply, .stl or .xyz, or pass format=...)");
+  }
+}
+
+FaceMatrix triangulate_fan(const std::vector<std::int64_t>& offsets,
+                           const std::vector<int>& corners) {
+  std::int64_t triangles = 0;
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f)
+    triangles += std::max<std::int64_t>(0, offsets[f + 1] - offsets[f] - 2);
+  FaceMatrix F(triangles, 3);
+  Eigen::Index row = 0;
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+    const std::int64_t begin = offsets[f], end = offsets[f + 1];
+    for (std::int64_t k = begin + 1; k + 1 < end; ++k, ++row) {
+      F(row, 0) = corners[begin];
+      F(row, 1) = corners[k];
+      F(row, 2) = corners[k + 1];
+    }
+  }
+  return F;
+}
+
+PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
+  const Format format = resolve_format(path, options.format);
+  if (format == Format::xyz)
+    throw InputError(path + ": XYZ files hold point clouds, not meshes (use read_points)");
+  const std::string contents = read_file_contents(path);
+  PolygonMesh mesh;
+  switch (format) {
+    case Format::obj: mesh = parse_obj(path, contents, options); break;
+    case Format::off: mesh = parse_off(path, contents); break;
+    case Format::ply: mesh = parse_ply(path, contents, true); break;
+    case Format::stl: mesh = parse_stl(path, contents); break;
+    default: break;
+  }
+  if (!options.with_uv) {
+    mesh.UV.resize(0, 2);
+    mesh.face_uvs.clear();
+  }
+  if (!options.with_normals) {
+    mesh.N.resize(0, 3);
+    mesh.face_normals.clear();
+  }
+  return mesh;
+}
+
+void write_mesh(const std::string& path, const PolygonMesh& mesh, const WriteOptions& options) {
+  const Format format = resolve_format(path, options.format);
+  check_writable(path, mesh);
+  std::string contents;
+  switch (format) {
+    case Format::obj: contents = format_obj(mesh); break;
+    case Format::off: contents = format_off(mesh, options.binary); break;
+    case Format::ply: contents = format_ply(mesh, options.binary, options.big_endian); break;
+    case Format::stl: contents = format_stl(mesh, options.binary); break;
+    default:
+      throw InputError(path + ": cannot write a mesh as " + format_name(format) +
+                       " (use write_points for point clouds)");
+  }
+  write_file_contents(path, contents);
+}
+
+PointCloud read_points(const std::string& path, Format requested) {
+  const Format format = resolve_format(path, requested);
+  if (format != Format::xyz && format != Format::ply)
+    throw InputError(path + ": read_points reads XYZ and PLY files, not " + format_name(format));
+  const std::string contents = read_file_contents(path);
+  if (format == Format::xyz) return parse_xyz(path, contents);
+  PolygonMesh mesh = parse_ply(path, contents, false);
+  PointCloud points;
+  points.P = std::move(mesh.V);
+  if (mesh.N.rows() == points.P.rows()) points.N = std::move(mesh.N);
+  return points;
+}
+
+void write_points(const std::string& path, const PointCloud& points,
+                  const WriteOptions& options) {
+  const Format format = resolve_format(path, options.format);
+  if (points.N.rows() != 0 && points.N.rows() != points.P.rows())
+    throw InputError(path + ": cannot write: N has " + std::to_string(points.N.rows()) +
+                     " rows but P has " + std::to_string(points.P.rows()));
+  check_finite(path, points.P, "P");
+  check_finite(path, points.N, "N");
+  std::string contents;
+  if (format == Format::xyz) {
+    contents = format_xyz(points);
+  } else if (format == Format::ply) {
+    PolygonMesh cloud;
+    cloud.V = points.P;
+    cloud.N = points.N;
+    contents = format_ply(cloud, options.binary, options.big_endian);
+  } else {
+    throw InputError(path + ": write_points writes XYZ and PLY files, not " +
+                     format_name(format));
+  }
+  write_file_contents(path, contents);
+}
+
+}  // namespace meshsmith::io

@@ -1,0 +1,467 @@
+// Polygon File Format (Stanford PLY): ASCII and binary reader and writer.
+#include <meshsmith/io/formats.h>
+#include <meshsmith/io/parsing.h>
+
+#include <climits>
+#include <cmath>
+
+namespace meshsmith::io {
+
+namespace {
+
+enum class Scalar { int8, uint8, int16, uint16, int32, uint32, float32, float64 };
+
+bool scalar_from_name(std::string_view name, Scalar& type) {
+  struct Entry { std::string_view name; Scalar type; };
+  static constexpr Entry table[] = {
+      {"char", Scalar::int8},     {"int8", Scalar::int8},      {"uchar", Scalar::uint8},
+      {"uint8", Scalar::uint8},   {"short", Scalar::int16},    {"int16", Scalar::int16},
+      {"ushort", Scalar::uint16}, {"uint16", Scalar::uint16},  {"int", Scalar::int32},
+      {"int32", Scalar::int32},   {"uint", Scalar::uint32},    {"uint32", Scalar::uint32},
+      {"float", Scalar::float32}, {"float32", Scalar::float32}, {"double", Scalar::float64},
+      {"float64", Scalar::float64}};
+  for (const Entry& entry : table)
+    if (entry.name == name) {
+      type = entry.type;
+      return true;
+    }
+  return false;
+}
+
+std::size_t scalar_size(Scalar type) {
+  switch (type) {
+    case Scalar::int8: case Scalar::uint8: return 1;
+    case Scalar::int16: case Scalar::uint16: return 2;
+    case Scalar::int32: case Scalar::uint32: case Scalar::float32: return 4;
+    default: return 8;
+  }
+}
+
+bool is_integral(Scalar type) { return type != Scalar::float32 && type != Scalar::float64; }
+
+/// The value of a binary scalar of `type` at `data`, as a double (exact for every PLY type).
+double decode_scalar(Scalar type, const char* data, bool swap) {
+  switch (type) {
+    case Scalar::int8: return ByteReader::decode<std::int8_t>(data, swap);
+    case Scalar::uint8: return ByteReader::decode<std::uint8_t>(data, swap);
+    case Scalar::int16: return ByteReader::decode<std::int16_t>(data, swap);
+    case Scalar::uint16: return ByteReader::decode<std::uint16_t>(data, swap);
+    case Scalar::int32: return ByteReader::decode<std::int32_t>(data, swap);
+    case Scalar::uint32: return ByteReader::decode<std::uint32_t>(data, swap);
+    case Scalar::float32: return ByteReader::decode<float>(data, swap);
+    default: return ByteReader::decode<double>(data, swap);
+  }
+}
+
+/// What read_mesh does with a property.
+enum class Role { skip, x, y, z, nx, ny, nz, u, v, face_indices, strip_indices };
+
+struct Property {
+  std::string name;
+  Scalar type = Scalar::float32;   // the item type for lists
+  bool is_list = false;
+  Scalar count_type = Scalar::uint8;
+  Role role = Role::skip;
+};
+
+struct Element {
+  std::string name;
+  std::int64_t count = 0;
+  std::vector<Property> properties;
+  std::size_t header_line = 0;
+
+  /// Fewest bytes one record can take: binary sizes (lists empty), or for ASCII one character
+  /// and one separator per property; at least 1 so that a count is always bounded by the file.
+  std::size_t minimum_record_bytes(bool binary) const {
+    std::size_t bytes = 0;
+    for (const Property& property : properties)
+      bytes += binary ? scalar_size(property.is_list ? property.count_type : property.type) : 2;
+    return bytes > 0 ? bytes : 1;
+  }
+};
+
+enum class Encoding { ascii, binary_little_endian, binary_big_endian };
+
+struct Header {
+  Encoding encoding = Encoding::ascii;
+  std::vector<Element> elements;
+  std::size_t body_offset = 0;  // first byte after end_header's line
+  std::size_t body_line = 0;    // line number of the first body line (ASCII)
+};
+
+Role vertex_role(std::string_view name) {
+  if (name == "x") return Role::x;
+  if (name == "y") return Role::y;
+  if (name == "z") return Role::z;
+  if (name == "nx") return Role::nx;
+  if (name == "ny") return Role::ny;
+  if (name == "nz") return Role::nz;
+  if (name == "u" || name == "s" || name == "texture_u" || name == "texture_s") return Role::u;
+  if (name == "v" || name == "t" || name == "texture_v" || name == "texture_t") return Role::v;
+  return Role::skip;
+}
+
+Header parse_header(const std::string& path, std::string_view bytes) {
+  LineReader lines(path, bytes);
+  std::string_view line, token;
+  if (!lines.next(line) || line != "ply") lines.fail("not a PLY file (the first line is not 'ply')");
+  Header header;
+  bool have_format = false, have_end = false;
+  while (!have_end && lines.next(line)) {
+    Tokens tokens(line);
+    if (!tokens.next(token)) continue;
+    if (token == "comment" || token == "obj_info") continue;
+    if (token == "format") {
+      std::string_view encoding, version;
+      if (!tokens.next(encoding) || !tokens.next(version) || !tokens.empty())
+        lines.fail("expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+      if (encoding == "ascii") header.encoding = Encoding::ascii;
+      else if (encoding == "binary_little_endian") header.encoding = Encoding::binary_little_endian;
+      else if (encoding == "binary_big_endian") header.encoding = Encoding::binary_big_endian;
+      else lines.fail("unknown PLY format " + quoted(encoding));
+      have_format = true;
+    } else if (token == "element") {
+      Element element;
+      std::string_view name, count;
+      if (!tokens.next(name) || !tokens.next(count) || !tokens.empty())
+        lines.fail("expected 'element <name> <count>'");
+      element.name = std::string(name);
+      if (!parse_integer(count, element.count))
+        lines.fail("element count " + quoted(count) + " is not an integer");
+      if (element.count < 0)
+        lines.fail("negative element count " + std::to_string(element.count));
+      element.header_line = lines.line_number();
+      if (element.name == "vertex")
+        for (const Element& earlier : header.elements)
+          if (earlier.name == "vertex") lines.fail("a second 'vertex' element");
+      header.elements.push_back(std::move(element));
+    } else if (token == "property") {
+      if (header.elements.empty()) lines.fail("'property' before any 'element'");
+      Property property;
+      std::string_view type, name;
+      if (!tokens.next(type)) lines.fail("expected a property type");
+      if (type == "list") {
+        std::string_view count_type;
+        property.is_list = true;
+        if (!tokens.next(count_type) || !tokens.next(type) || !tokens.next(name) || !tokens.empty())
+          lines.fail("expected 'property list <count type> <item type> <name>'");
+        if (!scalar_from_name(count_type, property.count_type))
+          lines.fail("unknown PLY type " + quoted(count_type));
+        if (!is_integral(property.count_type)) lines.fail("a list count must have an integer type");
+      } else if (!tokens.next(name) || !tokens.empty()) {
+        lines.fail("expected 'property <type> <name>'");
+      }
+      if (!scalar_from_name(type, property.type))
+        lines.fail("unknown PLY type " + quoted(type));
+      property.name = std::string(name);
+      Element& element = header.elements.back();
+      if (element.name == "vertex" && !property.is_list) {
+        property.role = vertex_role(name);
+      } else if (property.is_list && (name == "vertex_indices" || name == "vertex_index")) {
+        if (element.name == "face") property.role = Role::face_indices;
+        if (element.name == "tristrips") property.role = Role::strip_indices;
+        if (property.role != Role::skip && !is_integral(property.type))
+          lines.fail("vertex indices must have an integer type");
+      }
+      element.properties.push_back(std::move(property));
+    } else if (token == "end_header") {
+      have_end = true;
+    } else {
+      lines.fail("unknown PLY header keyword " + quoted(token));
+    }
+  }
+  if (!have_end) lines.fail("the header has no 'end_header'");
+  if (!have_format) lines.fail("the header has no 'format' line");
+  header.body_offset = lines.offset();
+  header.body_line = lines.line_number() + 1;
+  // Every element's count must fit in the body: bound before allocating anything.
+  const bool binary = header.encoding != Encoding::ascii;
+  const std::size_t body = bytes.size() - header.body_offset;
+  std::size_t needed = 0;
+  for (const Element& element : header.elements) {
+    const std::size_t record = element.minimum_record_bytes(binary);
+    if (static_cast<std::uint64_t>(element.count) > (body + 1) / record ||
+        needed + element.count * record > body + 1 + header.elements.size())
+      throw InputError(path + ": line " + std::to_string(element.header_line) + ": element '" +
+                       printable(element.name) + "' announces " + std::to_string(element.count) +
+                       " records, more than the " + std::to_string(body) +
+                       " bytes after the header can hold");
+    needed += element.count * record;
+  }
+  return header;
+}
+
+/// Receives the values of the roles that read_mesh keeps, whatever the encoding.
+class MeshBuilder {
+ public:
+  MeshBuilder(const std::string& path, bool read_faces) : path_(path), read_faces_(read_faces) {}
+
+  void begin_vertices(const Element& element) {
+    has_vertices_ = true;
+    vertex_count_ = element.count;
+    if (vertex_count_ > INT_MAX) throw InputError(path_ + ": too many vertices");
+    bool roles[11] = {};
+    for (const Property& property : element.properties) roles[static_cast<int>(property.role)] = true;
+    if (!roles[int(Role::x)] || !roles[int(Role::y)] || !roles[int(Role::z)])
+      throw InputError(path_ + ": line " + std::to_string(element.header_line) +
+                       ": the vertex element lacks an x, y or z property");
+    has_normals_ = roles[int(Role::nx)] && roles[int(Role::ny)] && roles[int(Role::nz)];
+    has_uv_ = roles[int(Role::u)] && roles[int(Role::v)];
+    mesh.V.resize(vertex_count_, 3);
+    if (has_normals_) mesh.N.resize(vertex_count_, 3);
+    if (has_uv_) mesh.UV.resize(vertex_count_, 2);
+  }
+
+  /// Stores `value` of vertex `i`; false when the value is not finite where it matters.
+  bool vertex_value(std::int64_t i, Role role, double value) {
+    switch (role) {
+      case Role::x: case Role::y: case Role::z:
+        mesh.V(i, static_cast<int>(role) - static_cast<int>(Role::x)) = value;
+        return std::isfinite(value);
+      case Role::nx: case Role::ny: case Role::nz:
+        if (has_normals_) mesh.N(i, static_cast<int>(role) - static_cast<int>(Role::nx)) = value;
+        return std::isfinite(value);
+      case Role::u: case Role::v:
+        if (has_uv_) mesh.UV(i, static_cast<int>(role) - static_cast<int>(Role::u)) = value;
+        return std::isfinite(value);
+      default: return true;
+    }
+  }
+
+  /// Starts a polygon (face element) or a strip; returns an error message or "".
+  void begin_list(Role role) { role_ = role; list_.clear(); }
+  /// Adds an index to the current list; returns an error message or "".
+  std::string list_index(double value) {
+    if (role_ == Role::strip_indices && value == -1) {
+      list_.push_back(-1);
+      return {};
+    }
+    if (!(value >= 0 && value < static_cast<double>(vertex_count_)))
+      return "vertex index " + std::to_string(static_cast<std::int64_t>(value)) + " outside [0, " +
+             std::to_string(vertex_count_) + ")";
+    list_.push_back(static_cast<int>(value));
+    return {};
+  }
+  /// Ends the current list; returns an error message or "".
+  std::string end_list() {
+    if (role_ == Role::face_indices) {
+      if (list_.size() < 3)
+        return "face with " + std::to_string(list_.size()) + " corners (at least 3 needed)";
+      if (read_faces_) {
+        mesh.face_vertices.insert(mesh.face_vertices.end(), list_.begin(), list_.end());
+        mesh.face_offsets.push_back(mesh.face_vertices.size());
+      }
+    } else if (role_ == Role::strip_indices && read_faces_) {
+      add_strips();
+    }
+    return {};
+  }
+
+  bool needs_vertex_count() const { return !has_vertices_; }
+  PolygonMesh mesh;
+
+ private:
+  /// Triangles of a strip (v0 v1 v2 ...; -1 restarts): (a, b, c) with a, b swapped on odd
+  /// positions so that all triangles keep the first one's orientation; degenerate ones dropped.
+  void add_strips() {
+    std::size_t start = 0;
+    for (std::size_t k = 0; k <= list_.size(); ++k) {
+      if (k < list_.size() && list_[k] != -1) continue;
+      for (std::size_t i = start; i + 2 < k; ++i) {
+        int a = list_[i], b = list_[i + 1];
+        const int c = list_[i + 2];
+        if ((i - start) % 2 == 1) std::swap(a, b);
+        if (a == b || b == c || a == c) continue;
+        mesh.face_vertices.insert(mesh.face_vertices.end(), {a, b, c});
+        mesh.face_offsets.push_back(mesh.face_vertices.size());
+      }
+      start = k + 1;
+    }
+  }
+
+  const std::string& path_;
+  bool read_faces_;
+  bool has_vertices_ = false, has_normals_ = false, has_uv_ = false;
+  std::int64_t vertex_count_ = 0;
+  Role role_ = Role::skip;
+  std::vector<int> list_;
+};
+
+void parse_binary_body(const std::string& path, std::string_view bytes, const Header& header,
+                       MeshBuilder& builder) {
+  ByteReader in(path, bytes, header.body_offset, header.encoding == Encoding::binary_big_endian);
+  const bool swap = in.swap();
+  for (const Element& element : header.elements) {
+    const bool is_vertex = element.name == "vertex";
+    bool has_role = false;
+    std::size_t fixed_size = 0;
+    bool all_fixed = true;
+    for (const Property& property : element.properties) {
+      has_role |= property.role != Role::skip;
+      all_fixed &= !property.is_list;
+      fixed_size += scalar_size(property.type);
+    }
+    if (!has_role && all_fixed) {  // nothing to keep: skip the whole element at once
+      in.skip(fixed_size * element.count, ("element '" + element.name + "'").c_str());
+      continue;
+    }
+    for (std::int64_t r = 0; r < element.count; ++r) {
+      for (const Property& property : element.properties) {
+        if (!property.is_list) {
+          const std::size_t size = scalar_size(property.type);
+          in.require(size, property.name.c_str());
+          if (is_vertex && property.role != Role::skip &&
+              !builder.vertex_value(r, property.role, decode_scalar(property.type, in.here(), swap)))
+            in.fail("vertex " + std::to_string(r) + " has a non-finite " + property.name);
+          in.skip(size, property.name.c_str());
+          continue;
+        }
+        const std::size_t list_start = in.offset();
+        const std::size_t count_size = scalar_size(property.count_type);
+        in.require(count_size, property.name.c_str());
+        const double count = decode_scalar(property.count_type, in.here(), swap);
+        if (count < 0) in.fail("negative list length " + std::to_string(static_cast<std::int64_t>(count)));
+        in.skip(count_size, property.name.c_str());
+        const std::size_t item_size = scalar_size(property.type);
+        const auto items = static_cast<std::size_t>(count);
+        in.require(items * item_size, property.name.c_str());
+        if (property.role == Role::skip) {
+          in.skip(items * item_size, property.name.c_str());
+          continue;
+        }
+        builder.begin_list(property.role);
+        for (std::size_t k = 0; k < items; ++k) {
+          std::string error = builder.list_index(decode_scalar(property.type, in.here(), swap));
+          if (!error.empty()) in.fail(element.name + " " + std::to_string(r) + ": " + error);
+          in.skip(item_size, property.name.c_str());
+        }
+        std::string error = builder.end_list();
+        if (!error.empty()) in.fail_at(list_start, element.name + " " + std::to_string(r) + ": " + error);
+      }
+    }
+  }
+}
+
+void parse_ascii_body(const std::string& path, std::string_view bytes, const Header& header,
+                      MeshBuilder& builder) {
+  LineReader lines(path, bytes.substr(header.body_offset), header.body_line);
+  std::string_view line, token;
+  auto next_value = [&](Tokens& tokens, const Property& property, const Element& element,
+                        std::int64_t r) {
+    if (!tokens.next(token))
+      lines.fail(element.name + " " + std::to_string(r) + ": missing a value for '" + property.name + "'");
+    return token;
+  };
+  for (const Element& element : header.elements) {
+    if (element.properties.empty()) continue;
+    const bool is_vertex = element.name == "vertex";
+    for (std::int64_t r = 0; r < element.count; ++r) {
+      if (!lines.next_content(line, '\0'))
+        lines.fail("unexpected end of file in element '" + element.name + "' (" + std::to_string(r) +
+                   " of " + std::to_string(element.count) + " records read)");
+      Tokens tokens(line);
+      for (const Property& property : element.properties) {
+        if (!property.is_list) {
+          std::string_view value_token = next_value(tokens, property, element, r);
+          double value;
+          if (!parse_double(value_token, value))
+            lines.fail(quoted(value_token) + " is not a finite number");
+          if (is_vertex && property.role != Role::skip) builder.vertex_value(r, property.role, value);
+          continue;
+        }
+        std::string_view count_token = next_value(tokens, property, element, r);
+        std::int64_t count;
+        if (!parse_integer(count_token, count) || count < 0)
+          lines.fail(quoted(count_token) + " is not a list length");
+        if (property.role != Role::skip) builder.begin_list(property.role);
+        for (std::int64_t k = 0; k < count; ++k) {
+          std::string_view item = next_value(tokens, property, element, r);
+          double value;
+          if (!parse_double(item, value))
+            lines.fail(quoted(item) + " is not a finite number");
+          if (property.role == Role::skip) continue;
+          if (value != std::floor(value)) lines.fail("vertex index " + quoted(item) + " is not an integer");
+          std::string error = builder.list_index(value);
+          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+        }
+        if (property.role != Role::skip) {
+          std::string error = builder.end_list();
+          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+        }
+      }
+      if (!tokens.empty())
+        lines.fail(element.name + " " + std::to_string(r) + ": more values than the header declares");
+    }
+  }
+}
+
+}  // namespace
+
+PolygonMesh parse_ply(const std::string& path, std::string_view bytes, bool read_faces) {
+  const Header header = parse_header(path, bytes);
+  MeshBuilder builder(path, read_faces);
+  // The vertex count is needed to check indices, whichever element comes first.
+  for (const Element& element : header.elements)
+    if (element.name == "vertex" && builder.needs_vertex_count()) builder.begin_vertices(element);
+  if (builder.needs_vertex_count()) throw InputError(path + ": the PLY header has no 'vertex' element");
+  if (header.encoding == Encoding::ascii) parse_ascii_body(path, bytes, header, builder);
+  else parse_binary_body(path, bytes, header, builder);
+  if (builder.mesh.V.rows() == 0) throw InputError(path + ": the PLY file has no vertices");
+  // Per-vertex normals and texture coordinates: each corner uses its vertex's.
+  if (builder.mesh.N.rows() > 0) builder.mesh.face_normals = builder.mesh.face_vertices;
+  if (builder.mesh.UV.rows() > 0) builder.mesh.face_uvs = builder.mesh.face_vertices;
+  return std::move(builder.mesh);
+}
+
+std::string format_ply(const PolygonMesh& mesh, bool binary, bool big_endian) {
+  OutputBuffer out;
+  const bool normals = mesh.N.rows() == mesh.V.rows() && mesh.N.rows() > 0;
+  std::int64_t largest_face = 0;
+  for (std::int64_t f = 0; f < mesh.face_count(); ++f)
+    largest_face = std::max(largest_face, mesh.face_offsets[f + 1] - mesh.face_offsets[f]);
+  const bool wide_counts = largest_face > 255;
+  out.reserve(256 + mesh.V.rows() * (normals ? 48 : 24) + mesh.face_count() * 1 + mesh.face_vertices.size() * 4);
+  out.text("ply\nformat ");
+  out.text(!binary ? "ascii" : big_endian ? "binary_big_endian" : "binary_little_endian");
+  out.text(" 1.0\ncomment written by meshsmith\nelement vertex ");
+  out.number(static_cast<std::int64_t>(mesh.V.rows()));
+  out.text("\nproperty double x\nproperty double y\nproperty double z\n");
+  if (normals) out.text("property double nx\nproperty double ny\nproperty double nz\n");
+  if (mesh.face_count() > 0) {
+    out.text("element face ");
+    out.number(mesh.face_count());
+    out.text(wide_counts ? "\nproperty list int int vertex_indices\n"
+                         : "\nproperty list uchar int vertex_indices\n");
+  }
+  out.text("end_header\n");
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+    for (int c = 0; c < (normals ? 6 : 3); ++c) {
+      const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
+      if (binary) {
+        out.binary<double>(value, big_endian);
+      } else {
+        if (c > 0) out.character(' ');
+        out.number(value);
+      }
+    }
+    if (!binary) out.character('\n');
+  }
+  for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
+    const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    if (binary) {
+      if (wide_counts) out.binary<std::int32_t>(static_cast<std::int32_t>(end - begin), big_endian);
+      else out.binary<std::uint8_t>(static_cast<std::uint8_t>(end - begin), big_endian);
+      for (std::int64_t k = begin; k < end; ++k) out.binary<std::int32_t>(mesh.face_vertices[k], big_endian);
+    } else {
+      out.number(end - begin);
+      for (std::int64_t k = begin; k < end; ++k) {
+        out.character(' ');
+        out.number(mesh.face_vertices[k]);
+      }
+      out.character('\n');
+    }
+  }
+  return out.take();
+}
+
+}  // namespace meshsmith::io

@@ -1,0 +1,521 @@
+// The z-buffer rasterizer of the render chapter (see rasterizer.h for the two-pass design).
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/validation.h>
+#include <meshsmith/render/rasterizer.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace meshsmith::render {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kStripRows = 16;                    // supersampled rows per visibility strip
+constexpr std::int64_t kMaxSamples = 1LL << 25;  // 32M samples = 256 MB of depth and ids
+
+// ---- colour space -------------------------------------------------------------------------
+
+double srgb_to_linear(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+Eigen::Vector3d srgb_to_linear(const Eigen::Vector3d& c) {
+  return {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2])};
+}
+
+/// 8-bit sRGB encoding of linear values through a table (4096 steps are finer than 8 bits).
+class SrgbEncoder {
+ public:
+  SrgbEncoder() {
+    for (int i = 0; i < kSize; ++i) {
+      const double c = static_cast<double>(i) / (kSize - 1);
+      const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+      table_[i] = static_cast<std::uint8_t>(std::lround(std::clamp(s, 0.0, 1.0) * 255.0));
+    }
+  }
+  std::uint8_t operator()(double linear) const {
+    const double c = std::clamp(linear, 0.0, 1.0);
+    return table_[static_cast<int>(c * (kSize - 1) + 0.5)];
+  }
+
+ private:
+  static constexpr int kSize = 4096;
+  std::array<std::uint8_t, kSize> table_{};
+};
+
+// ---- geometry -------------------------------------------------------------------------------
+
+/// Angle-weighted vertex normals (Thürmer & Wüthrich 1998); zero for vertices of no proper face.
+/// Private to the renderer until the geometry chapter provides vertex normals.
+VertexMatrix angle_weighted_vertex_normals(const VertexRef& V, const FaceRef& F) {
+  VertexMatrix normals = VertexMatrix::Zero(V.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const std::array<int, 3> corner{F(f, 0), F(f, 1), F(f, 2)};
+    const Eigen::Vector3d p0 = V.row(corner[0]), p1 = V.row(corner[1]), p2 = V.row(corner[2]);
+    const Eigen::Vector3d face_normal = (p1 - p0).cross(p2 - p0);
+    const double length = face_normal.norm();
+    if (!(length > 0.0)) continue;
+    const Eigen::Vector3d unit = face_normal / length;
+    const std::array<Eigen::Vector3d, 3> p{p0, p1, p2};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+      normals.row(corner[k]) += angle * unit.transpose();
+    }
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    const double length = normals.row(v).norm();
+    if (length > 0.0) normals.row(v) /= length;
+  }
+  return normals;
+}
+
+struct ScreenVertex {
+  double x = 0.0, y = 0.0;  // supersampled pixel coordinates, y down
+  double depth = 0.0;       // larger is closer: 1/z (perspective) or -z (orthographic)
+  double inverse_z = 1.0;   // 1/z for perspective-correct interpolation (1 when orthographic)
+  bool drawable = false;    // in front of the near plane
+};
+
+/// The camera frame: right, up, forward (unit, orthogonal).
+struct CameraFrame {
+  Eigen::Vector3d right, up, forward;
+};
+
+CameraFrame camera_frame(const Camera& camera) {
+  if (!camera.eye.allFinite() || !camera.target.allFinite() || !camera.up.allFinite())
+    throw InputError("render: camera eye, target and up must be finite");
+  const Eigen::Vector3d view = camera.target - camera.eye;
+  if (!(view.norm() > 0.0)) throw InputError("render: camera eye and target coincide");
+  CameraFrame frame;
+  frame.forward = view.normalized();
+  const Eigen::Vector3d right = frame.forward.cross(camera.up);
+  if (!(right.norm() > 1e-9 * camera.up.norm()) || !(camera.up.norm() > 0.0))
+    throw InputError("render: camera up vector is zero or parallel to the view direction");
+  frame.right = right.normalized();
+  frame.up = frame.right.cross(frame.forward);
+  if (camera.orthographic) {
+    if (!(camera.ortho_height > 0.0) || !std::isfinite(camera.ortho_height))
+      throw InputError("render: orthographic camera needs ortho_height > 0, got " +
+                       std::to_string(camera.ortho_height));
+  } else if (!(camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0)) {
+    throw InputError("render: camera fov_y_deg must be in (0, 180), got " +
+                     std::to_string(camera.fov_y_deg));
+  }
+  return frame;
+}
+
+/// The signed edge function of the directed edge p → q at (x, y), evaluated with the edge's
+/// endpoints in a canonical order (lower vertex index first) so that two triangles sharing an
+/// edge get exactly opposite values and no sample on the edge falls through a crack.
+struct Edge {
+  double px, py, dx, dy, sign;
+  double operator()(double x, double y) const { return sign * (dx * (y - py) - dy * (x - px)); }
+  double length() const { return std::hypot(dx, dy); }
+};
+
+Edge make_edge(int i, int j, const ScreenVertex& a, const ScreenVertex& b) {
+  if (i <= j) return {a.x, a.y, b.x - a.x, b.y - a.y, 1.0};
+  return {b.x, b.y, a.x - b.x, a.y - b.y, -1.0};
+}
+
+/// Per-triangle set-up shared by the visibility and shading passes.
+struct TriangleSetup {
+  std::array<const ScreenVertex*, 3> vertex;
+  std::array<Edge, 3> edge;  // edge[k] is opposite vertex k; edge[k](x, y) / area2 = barycentric k
+  double area2 = 0.0;        // twice the signed screen area; negative for front faces (y down)
+
+  TriangleSetup(const std::vector<ScreenVertex>& screen, const FaceRef& F, int face) {
+    const int i0 = F(face, 0), i1 = F(face, 1), i2 = F(face, 2);
+    vertex = {&screen[i0], &screen[i1], &screen[i2]};
+    edge[0] = make_edge(i1, i2, *vertex[1], *vertex[2]);
+    edge[1] = make_edge(i2, i0, *vertex[2], *vertex[0]);
+    edge[2] = make_edge(i0, i1, *vertex[0], *vertex[1]);
+    const ScreenVertex &a = *vertex[0], &b = *vertex[1], &c = *vertex[2];
+    area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  }
+  bool drawable() const {
+    return vertex[0]->drawable && vertex[1]->drawable && vertex[2]->drawable && area2 != 0.0 &&
+           std::isfinite(area2);
+  }
+};
+
+// ---- shading --------------------------------------------------------------------------------
+
+struct Light {
+  Eigen::Vector3d direction;  // camera space (x right, y up, z towards the viewer), unit
+  double intensity;
+};
+
+class Shader {
+ public:
+  Shader(const VertexRef& V, const FaceRef& F, const CameraFrame& frame,
+         const RenderOptions& options)
+      : V_(V), F_(F), frame_(frame), options_(options) {
+    if (options.smooth_shading) vertex_normals_ = angle_weighted_vertex_normals(V, F);
+    front_ = srgb_to_linear(options.front_color);
+    back_ = srgb_to_linear(options.back_color);
+    wire_ = srgb_to_linear(options.wireframe_color);
+    checker_light_ = srgb_to_linear(options.checker_light);
+    checker_dark_ = srgb_to_linear(options.checker_dark);
+    if (options.scalar.size() > 0) {
+      for (int i = 0; i < kColormapSteps; ++i)
+        colormap_[i] = srgb_to_linear(
+            colormap_color(options.colormap, static_cast<double>(i) / (kColormapSteps - 1)));
+      const double span = options.scalar_max - options.scalar_min;
+      scalar_scale_ = span > 0.0 ? 1.0 / span : 0.0;
+    }
+    lights_ = {Light{Eigen::Vector3d(-0.45, 0.60, 0.66).normalized(), 0.72},   // key: upper left
+               Light{Eigen::Vector3d(0.70, -0.05, 0.55).normalized(), 0.26},   // fill: right
+               Light{Eigen::Vector3d(0.10, 0.45, -0.90).normalized(), 0.22}};  // rim: behind
+    halfway_ = (lights_[0].direction + Eigen::Vector3d::UnitZ()).normalized();
+    wire_half_width_ = 0.5 * options.wireframe_width * options.supersample;
+  }
+
+  /// Linear RGB of the sample at (x, y) (supersampled pixels) that shows triangle `face`.
+  Eigen::Vector3d shade(const TriangleSetup& triangle, int face, double x, double y) const {
+    std::array<double, 3> edge_value, weight;
+    double total = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      edge_value[k] = triangle.edge[k](x, y);
+      const double screen_weight = std::max(0.0, edge_value[k] / triangle.area2);
+      weight[k] = screen_weight * triangle.vertex[k]->inverse_z;  // perspective-correct
+      total += weight[k];
+    }
+    if (total > 0.0) {
+      for (double& w : weight) w /= total;
+    } else {
+      weight = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+    }
+    const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
+    const bool front = triangle.area2 < 0.0;
+
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    if (options_.smooth_shading)
+      for (int k = 0; k < 3; ++k) normal += weight[k] * vertex_normals_.row(index[k]).transpose();
+    if (!(normal.squaredNorm() > 1e-12)) {
+      const Eigen::Vector3d p0 = V_.row(index[0]), p1 = V_.row(index[1]), p2 = V_.row(index[2]);
+      normal = (p1 - p0).cross(p2 - p0);
+    }
+    Eigen::Vector3d n(normal.dot(frame_.right), normal.dot(frame_.up), -normal.dot(frame_.forward));
+    n.normalize();
+    if (!front) n = -n;
+
+    Eigen::Vector3d albedo = front ? front_ : back_;
+    bool has_attribute = false;
+    Eigen::Vector3d attribute = Eigen::Vector3d::Ones();
+    if (options_.scalar.size() > 0) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) s += weight[k] * options_.scalar[index[k]];
+      const double t = std::clamp((s - options_.scalar_min) * scalar_scale_, 0.0, 1.0);
+      attribute = scalar_scale_ > 0.0 ? colormap_[static_cast<int>(t * (kColormapSteps - 1) + 0.5)]
+                                      : colormap_[kColormapSteps / 2];
+      has_attribute = true;
+    }
+    if (options_.uv.rows() > 0) {
+      double u = 0.0, v = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Index row = options_.uv_per_corner ? 3 * static_cast<Eigen::Index>(face) + k
+                                                        : index[k];
+        u += weight[k] * options_.uv(row, 0);
+        v += weight[k] * options_.uv(row, 1);
+      }
+      const long parity = static_cast<long>(std::floor(u / options_.checker_size)) +
+                          static_cast<long>(std::floor(v / options_.checker_size));
+      const bool dark = (parity & 1L) != 0;
+      if (has_attribute)
+        attribute *= dark ? 0.62 : 1.0;
+      else
+        attribute = dark ? checker_dark_ : checker_light_;
+      has_attribute = true;
+    }
+    if (has_attribute) albedo = front ? attribute : 0.4 * attribute + 0.6 * back_;
+
+    Eigen::Vector3d color;
+    if (options_.lighting) {
+      double diffuse = 0.10 + 0.10 * (0.5 + 0.5 * n.y());  // hemisphere ambient: sky above
+      for (const Light& light : lights_) diffuse += light.intensity * std::max(0.0, n.dot(light.direction));
+      const double highlight = std::max(0.0, n.dot(halfway_));
+      const double h2 = highlight * highlight, h4 = h2 * h2, h8 = h4 * h4, h16 = h8 * h8;
+      const double specular = 0.16 * h16 * h16 * h8;  // Blinn-Phong, exponent 40
+      color = albedo * diffuse + Eigen::Vector3d::Constant(specular);
+    } else {
+      color = albedo;
+    }
+
+    if (options_.wireframe) {
+      double distance = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3; ++k) {
+        const double length = triangle.edge[k].length();
+        if (length > 0.0) distance = std::min(distance, std::abs(edge_value[k]) / length);
+      }
+      const double coverage = std::clamp(wire_half_width_ + 0.5 - distance, 0.0, 1.0);
+      const double alpha = coverage * options_.wireframe_opacity;
+      color = (1.0 - alpha) * color + alpha * wire_;
+    }
+    return color;
+  }
+
+ private:
+  static constexpr int kColormapSteps = 1024;
+  const VertexRef& V_;
+  const FaceRef& F_;
+  CameraFrame frame_;
+  const RenderOptions& options_;
+  VertexMatrix vertex_normals_;
+  Eigen::Vector3d front_, back_, wire_, checker_light_, checker_dark_, halfway_;
+  std::array<Eigen::Vector3d, kColormapSteps> colormap_;
+  std::array<Light, 3> lights_;
+  double scalar_scale_ = 0.0;
+  double wire_half_width_ = 0.5;
+};
+
+// ---- validation -----------------------------------------------------------------------------
+
+void validate_options(const VertexRef& V, const FaceRef& F, const RenderOptions& options) {
+  if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
+    throw InputError("render: image size must be in [1, 16384], got " +
+                     std::to_string(options.width) + "x" + std::to_string(options.height));
+  if (options.supersample < 1 || options.supersample > 4)
+    throw InputError("render: supersample must be 1, 2, 3 or 4, got " +
+                     std::to_string(options.supersample));
+  const std::int64_t samples = static_cast<std::int64_t>(options.width) * options.height *
+                               options.supersample * options.supersample;
+  if (samples > kMaxSamples)
+    throw InputError("render: " + std::to_string(samples) +
+                     " samples (width*height*supersample^2) exceed the limit of " +
+                     std::to_string(kMaxSamples) + "; lower the size or the supersampling");
+  if (!(options.wireframe_width > 0.0) || !std::isfinite(options.wireframe_width))
+    throw InputError("render: wireframe_width must be > 0");
+  if (!(options.wireframe_opacity >= 0.0 && options.wireframe_opacity <= 1.0))
+    throw InputError("render: wireframe_opacity must be in [0, 1]");
+  const std::array<const Eigen::Vector3d*, 7> colors{
+      &options.front_color, &options.back_color, &options.wireframe_color,
+      &options.background_top, &options.background_bottom, &options.checker_light,
+      &options.checker_dark};
+  for (const Eigen::Vector3d* color : colors)
+    if (!color->allFinite()) throw InputError("render: colours must be finite");
+
+  if (options.scalar.size() > 0) {
+    validate_vertex_scalar(options.scalar, V.rows());
+    if (!std::isfinite(options.scalar_min) || !std::isfinite(options.scalar_max) ||
+        options.scalar_min > options.scalar_max)
+      throw InputError("render: scalar range must be finite with min <= max, got [" +
+                       std::to_string(options.scalar_min) + ", " +
+                       std::to_string(options.scalar_max) + "]");
+  }
+  if (options.uv.rows() > 0) {
+    const Eigen::Index expected = options.uv_per_corner ? 3 * F.rows() : V.rows();
+    if (options.uv.rows() != expected)
+      throw InputError("render: uv has " + std::to_string(options.uv.rows()) + " rows but " +
+                       std::to_string(expected) +
+                       (options.uv_per_corner ? " (3 per face) were expected for per-corner UVs"
+                                              : " (one per vertex) were expected"));
+    for (Eigen::Index i = 0; i < options.uv.rows(); ++i)
+      if (!options.uv.row(i).allFinite())
+        throw InputError("render: uv row " + std::to_string(i) + " holds a NaN or Inf");
+    if (!(options.checker_size >= 0.0) || !std::isfinite(options.checker_size))
+      throw InputError("render: checker_size must be > 0 (or 0 for automatic), got " +
+                       std::to_string(options.checker_size));
+  }
+}
+
+}  // namespace
+
+void validate_vertex_scalar(const Eigen::VectorXd& values, Eigen::Index vertex_count) {
+  if (values.size() != vertex_count)
+    throw InputError("scalar has " + std::to_string(values.size()) + " values but the mesh has " +
+                     std::to_string(vertex_count) + " vertices (one value per vertex expected)");
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw InputError("scalar[" + std::to_string(i) + "] is " +
+                       (std::isnan(values[i]) ? "NaN" : "infinite") + ": values must be finite");
+}
+
+std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
+                                              bool symmetric_about_zero,
+                                              double lower_percentile, double upper_percentile) {
+  if (values.size() == 0) throw InputError("scalar range of an empty field");
+  if (!(lower_percentile >= 0.0 && lower_percentile <= upper_percentile && upper_percentile <= 100.0))
+    throw InputError("percentiles must satisfy 0 <= lower <= upper <= 100");
+  std::vector<double> sorted(values.data(), values.data() + values.size());
+  auto percentile = [&](double p) {
+    const double position = p / 100.0 * static_cast<double>(sorted.size() - 1);
+    const std::size_t below = static_cast<std::size_t>(std::floor(position));
+    const std::size_t above = std::min(below + 1, sorted.size() - 1);
+    std::nth_element(sorted.begin(), sorted.begin() + below, sorted.end());
+    const double low = sorted[below];
+    const double high = above == below ? low : *std::min_element(sorted.begin() + below + 1, sorted.end());
+    return low + (position - below) * (high - low);
+  };
+  double low = percentile(lower_percentile), high = percentile(upper_percentile);
+  if (symmetric_about_zero && low < 0.0 && high > 0.0) {
+    const double m = std::max(-low, high);
+    low = -m, high = m;
+  }
+  return {low, high};
+}
+
+RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera,
+                      const RenderOptions& options) {
+  validate_mesh(V, F);
+  validate_options(V, F, options);
+  const CameraFrame frame = camera_frame(camera);
+  RenderOptions resolved;  // only the automatic checker size needs resolving
+  const RenderOptions* effective = &options;
+  if (options.uv.rows() > 0 && options.checker_size == 0.0) {
+    resolved = options;
+    const double extent = (options.uv.colwise().maxCoeff() - options.uv.colwise().minCoeff()).maxCoeff();
+    resolved.checker_size = extent > 0.0 ? extent / 8.0 : 1.0;
+    effective = &resolved;
+  }
+
+  const int ss = options.supersample;
+  const int width = options.width * ss, height = options.height * ss;
+
+  // Project the vertices onto the supersampled screen.
+  std::vector<ScreenVertex> screen(V.rows());
+  const double distance = (camera.target - camera.eye).norm();
+  const double near = 1e-6 * distance;
+  const double focal = camera.orthographic
+                           ? height / camera.ortho_height
+                           : 0.5 * height / std::tan(camera.fov_y_deg * kPi / 360.0);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, V.rows(), 4096),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3d p = V.row(i).transpose() - camera.eye;
+      const double x = p.dot(frame.right), y = p.dot(frame.up), z = p.dot(frame.forward);
+      ScreenVertex& s = screen[i];
+      if (camera.orthographic) {
+        s = {0.5 * width + focal * x, 0.5 * height - focal * y, -z, 1.0, true};
+      } else if (z > near) {
+        const double w = 1.0 / z;
+        s = {0.5 * width + focal * x * w, 0.5 * height - focal * y * w, w, w, true};
+      }
+    }
+  });
+
+  // Bin the triangles into strips of rows (in face order, so strips draw deterministically).
+  const int strips = (height + kStripRows - 1) / kStripRows;
+  std::vector<std::int64_t> strip_start(strips + 1, 0);
+  std::vector<std::array<int, 2>> face_strips(F.rows(), {0, -1});
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const TriangleSetup triangle(screen, F, static_cast<int>(f));
+    if (!triangle.drawable()) continue;
+    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+    double y_low = x_low, y_high = -x_low;
+    for (const ScreenVertex* v : triangle.vertex) {
+      x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
+      y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
+    }
+    if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
+    const int first = std::max(0, static_cast<int>(std::floor(y_low)) / kStripRows);
+    const int last = std::min(strips - 1, static_cast<int>(std::floor(std::min(y_high, double(height)))) / kStripRows);
+    face_strips[f] = {first, last};
+    for (int s = first; s <= last; ++s) ++strip_start[s + 1];
+  }
+  for (int s = 0; s < strips; ++s) strip_start[s + 1] += strip_start[s];
+  std::vector<int> binned(strip_start[strips]);
+  {
+    std::vector<std::int64_t> fill(strip_start.begin(), strip_start.end() - 1);
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int s = face_strips[f][0]; s <= face_strips[f][1]; ++s) binned[fill[s]++] = static_cast<int>(f);
+  }
+
+  // Visibility pass: nearest triangle per sample.
+  const std::size_t samples = static_cast<std::size_t>(width) * height;
+  std::vector<float> depth(samples, -std::numeric_limits<float>::infinity());
+  std::vector<int> visible(samples, -1);
+  tbb::parallel_for(tbb::blocked_range<int>(0, strips, 1), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s != range.end(); ++s) {
+      const int row_begin = s * kStripRows, row_end = std::min(height, row_begin + kStripRows);
+      for (std::int64_t b = strip_start[s]; b < strip_start[s + 1]; ++b) {
+        const int f = binned[b];
+        const TriangleSetup triangle(screen, F, f);
+        double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
+        double y_low = x_low, y_high = -x_low;
+        for (const ScreenVertex* v : triangle.vertex) {
+          x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
+          y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
+        }
+        // Sample (x, y) sits at (x + 0.5, y + 0.5).
+        const int x0 = std::max(0, static_cast<int>(std::ceil(x_low - 0.5)));
+        const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high - 0.5)));
+        const int y0 = std::max(row_begin, static_cast<int>(std::ceil(y_low - 0.5)));
+        const int y1 = std::min(row_end - 1, static_cast<int>(std::floor(y_high - 0.5)));
+        if (x0 > x1 || y0 > y1) continue;
+        const double inverse_area = 1.0 / triangle.area2;
+        const double d0 = triangle.vertex[0]->depth, d1 = triangle.vertex[1]->depth,
+                     d2 = triangle.vertex[2]->depth;
+        for (int y = y0; y <= y1; ++y) {
+          const double py = y + 0.5;
+          float* depth_row = depth.data() + static_cast<std::size_t>(y) * width;
+          int* visible_row = visible.data() + static_cast<std::size_t>(y) * width;
+          for (int x = x0; x <= x1; ++x) {
+            const double px = x + 0.5;
+            const double l0 = triangle.edge[0](px, py) * inverse_area;
+            const double l1 = triangle.edge[1](px, py) * inverse_area;
+            const double l2 = triangle.edge[2](px, py) * inverse_area;
+            if (l0 < 0.0 || l1 < 0.0 || l2 < 0.0) continue;
+            const float z = static_cast<float>(l0 * d0 + l1 * d1 + l2 * d2);
+            if (z > depth_row[x]) {
+              depth_row[x] = z;
+              visible_row[x] = f;
+            }
+          }
+        }
+      }
+    }
+  });
+
+  // Shading pass: each visible sample once, averaged per output pixel in linear light.
+  const Shader shader(V, F, frame, *effective);
+  const SrgbEncoder encode;
+  RgbaImage image;
+  image.width = options.width;
+  image.height = options.height;
+  image.pixels.assign(static_cast<std::size_t>(options.width) * options.height * 4, 0);
+  const double samples_per_pixel = ss * ss;
+  tbb::parallel_for(tbb::blocked_range<int>(0, options.height, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int row = range.begin(); row != range.end(); ++row) {
+      const double t = options.height > 1 ? static_cast<double>(row) / (options.height - 1) : 0.0;
+      const Eigen::Vector3d background =
+          srgb_to_linear(((1.0 - t) * options.background_top + t * options.background_bottom).eval());
+      for (int column = 0; column < options.width; ++column) {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        int covered = 0;
+        for (int sy = 0; sy < ss; ++sy) {
+          const int y = row * ss + sy;
+          for (int sx = 0; sx < ss; ++sx) {
+            const int x = column * ss + sx;
+            const int f = visible[static_cast<std::size_t>(y) * width + x];
+            if (f < 0) continue;
+            const TriangleSetup triangle(screen, F, f);
+            sum += shader.shade(triangle, f, x + 0.5, y + 0.5);
+            ++covered;
+          }
+        }
+        std::uint8_t* pixel = image.pixels.data() + (static_cast<std::size_t>(row) * options.width + column) * 4;
+        Eigen::Vector3d color;
+        if (options.transparent_background) {
+          color = covered > 0 ? Eigen::Vector3d(sum / covered) : Eigen::Vector3d::Zero();
+          pixel[3] = static_cast<std::uint8_t>(std::lround(255.0 * covered / samples_per_pixel));
+        } else {
+          color = (sum + (samples_per_pixel - covered) * background) / samples_per_pixel;
+          pixel[3] = 255;
+        }
+        for (int c = 0; c < 3; ++c) pixel[c] = encode(color[c]);
+      }
+    }
+  });
+  return image;
+}
+
+}  // namespace meshsmith::render

@@ -1,0 +1,479 @@
+"""Render chapter: PNG pictures of triangle meshes.
+
+The pictures come from meshsmith's own software rasterizer (C++, ``meshsmith::render``): a
+z-buffer over a supersampled image (3×3 samples per pixel by default), smooth shading from
+per-vertex normals (or flat shading), a key, a fill and a rim light, back faces in a warm tint so
+holes show, an optional per-vertex scalar field through a colormap, an optional checkerboard
+through texture coordinates and an optional wireframe computed per pixel from the distance to
+the triangle's edges. This module frames the camera, lays out several views in a grid and adds
+the title and the colour bar; Pillow (``pip install 'meshsmith[viz]'``) draws the text and
+writes the PNG.
+
+    >>> image = render(V, F, "bunny.png")                        # (600, 800, 3) uint8
+    >>> render(V, F, "curv.png", scalar=H, cmap="coolwarm", scalar_label="mean curvature")
+    >>> render(V, F, "views.png", views=["front", "left", "top", "three-quarter"])
+
+Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data); the front view
+looks from +y-up's +z axis towards -z (from -y with ``up="z"``); azimuth turns the camera about
+the up axis towards +x (the right view), elevation lifts it (the top view looks down).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from ._core import InputError
+from ._core import render as _core
+
+#: Named views as (azimuth, elevation) in degrees.
+VIEWS: dict[str, tuple[float, float]] = {
+    "three-quarter": (35.0, 25.0),
+    "front": (0.0, 0.0),
+    "back": (180.0, 0.0),
+    "left": (-90.0, 0.0),
+    "right": (90.0, 0.0),
+    "top": (0.0, 90.0),
+    "bottom": (0.0, -90.0),
+}
+
+#: Colormap names accepted by ``cmap``.
+COLORMAPS: tuple[str, ...] = tuple(_core.colormap_names())
+
+_FRONT_COLOR = (0.60, 0.68, 0.80)      # soft gray-blue
+_BACK_COLOR = (0.88, 0.56, 0.42)       # warm tint for back faces
+_WIREFRAME_COLOR = (0.10, 0.11, 0.14)
+_GRADIENT = ((1.0, 1.0, 1.0), (0.88, 0.90, 0.94))  # top, bottom (sRGB in [0, 1])
+_TEXT_COLOR = (40, 44, 52)
+
+
+@dataclass(frozen=True)
+class Camera:
+    """A look-at camera.
+
+    eye, target: (3,) positions; up: (3,) approximate screen-up direction (not parallel to
+    target - eye). fov_y_deg: vertical field of view of the perspective projection.
+    orthographic: parallel projection whose view is ortho_height world units high.
+    """
+
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float]
+    up: tuple[float, float, float]
+    fov_y_deg: float = 30.0
+    orthographic: bool = False
+    ortho_height: float = 2.0
+
+
+def view_angles(view) -> tuple[float, float]:
+    """(azimuth, elevation) in degrees of a view name from :data:`VIEWS` or an (az, el) pair.
+
+    Raises InputError for an unknown name or a pair that is not two finite numbers.
+    """
+    if isinstance(view, str):
+        if view not in VIEWS:
+            raise InputError(f"unknown view '{view}': use one of {', '.join(VIEWS)} "
+                             "or an (azimuth, elevation) pair in degrees")
+        return VIEWS[view]
+    try:
+        azimuth, elevation = (float(a) for a in view)
+    except (TypeError, ValueError):
+        raise InputError(f"view {view!r} is neither a view name ({', '.join(VIEWS)}) "
+                         "nor an (azimuth, elevation) pair") from None
+    if not (math.isfinite(azimuth) and math.isfinite(elevation)):
+        raise InputError(f"view {view!r}: azimuth and elevation must be finite")
+    return azimuth, elevation
+
+
+def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
+                 orthographic=False, margin=0.06) -> Camera:
+    """The camera that frames the vertices V from a view, as tightly as `margin` allows.
+
+    V: (n, 3) float array. view: a name from :data:`VIEWS` or (azimuth, elevation) in degrees.
+    size: (width, height) of the picture (its aspect ratio matters). up: "y" or "z", the world
+    axis that points up. fov: vertical field of view in degrees (perspective). margin: free
+    border on the tight side as a fraction of the picture size, in [0, 0.45).
+    The perspective distance and the lateral offset are solved exactly so every vertex is in
+    view and the silhouette is centred. Raises InputError for bad arguments.
+    """
+    width, height = _check_size(size)
+    azimuth, elevation = view_angles(view)
+    found = _core.frame_camera(V, azimuth, elevation, up=up, aspect=width / height,
+                               fov_y_deg=float(fov), orthographic=bool(orthographic),
+                               margin=float(margin))
+    return Camera(eye=tuple(found["eye"]), target=tuple(found["target"]), up=tuple(found["up"]),
+                  fov_y_deg=found["fov_y_deg"], orthographic=found["orthographic"],
+                  ortho_height=found["ortho_height"])
+
+
+def colormap(name: str, steps: int = 256) -> np.ndarray:
+    """(steps, 3) float array: sRGB colours in [0, 1] of colormap `name` (viridis, magma, coolwarm)."""
+    return _core.colormap_table(name, int(steps))
+
+
+def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
+    """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
+
+    For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
+    symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
+    Raises InputError for a wrong length or a NaN/Inf (naming the first one).
+    """
+    diverging = _core.colormap_is_diverging(cmap)
+    return tuple(_core.scalar_range(scalar, int(vertex_count), diverging))
+
+
+def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
+           camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
+           scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
+           wireframe=False, uv=None, checker_size=None, flat=False, lighting=True,
+           color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
+           supersample=3) -> np.ndarray:
+    """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
+
+    V: (n, 3) float array of vertex positions. F: (m, 3) integer array of triangles.
+    path: PNG file to write (str or Path), or None to only return the image.
+    size: (width, height) in pixels of the picture, or of each panel when `views` is given.
+    view: a name from :data:`VIEWS` ("three-quarter", "front", "back", "left", "right", "top",
+        "bottom") or an (azimuth, elevation) pair in degrees.
+    views: a list of such views: one panel per view in a grid of `columns` columns (default:
+        all in one row up to 3 views, else ceil(sqrt(k))); the picture is then exactly
+        (columns * width, rows * height) and each panel is labelled with its view.
+    camera: a :class:`Camera` to use instead of framing `view` automatically (single view only).
+    up: "y" or "z", the world axis that points up. projection: "perspective" or "orthographic".
+    fov: vertical field of view in degrees of the perspective camera.
+    scalar: (n,) float array, one finite value per vertex, interpolated per pixel and coloured
+        through `cmap` ("viridis", "magma" or "coolwarm").
+    scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
+        percentiles, symmetric about 0 for coolwarm when the values change sign.
+    scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
+        `scalar` is given); it shows the low, middle and high values of the range.
+    wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
+        them when there are few enough faces to read (#F <= width * height / 100).
+    uv: texture coordinates shown as a checkerboard, (n, 2) per vertex or (m, 3, 2) per
+        corner. checker_size: side of a checker square in UV units (default: an eighth of the
+        larger UV extent).
+    flat: one normal per face (faceted look) instead of smooth per-vertex normals.
+    lighting: False draws unlit colours (exact colormap colours).
+    color, back_color: sRGB triples in [0, 1] of the front and back faces' material.
+    title: text drawn at the top of the picture.
+    background: "gradient" (white to light gray-blue), "white", "transparent" (RGBA output,
+        alpha = coverage), a colour (a name, "#rrggbb", or an RGB triple of 0-255 ints or
+        0-1 floats) or a (top, bottom) pair of colours for a vertical gradient.
+    supersample: samples per pixel along each axis (1 to 4) for anti-aliasing.
+
+    Returns the picture as a uint8 array of shape (height, width, 3), or (height, width, 4)
+    with a transparent background. Raises InputError (a ValueError) for an invalid mesh, a
+    scalar of the wrong length or with NaN/Inf, UVs of the wrong shape, a size <= 0, an unknown
+    view, colormap, projection or background; ImportError when Pillow is needed (a title, a
+    colour bar, view labels or a path) and missing.
+    """
+    width, height = _check_size(size)
+    view_list = list(views) if views is not None else [view]
+    if not view_list:
+        raise InputError("views is empty: give at least one view")
+    angles = [view_angles(v) for v in view_list]
+    if camera is not None and len(view_list) > 1:
+        raise InputError("camera and several views are exclusive: give one or the other")
+    if projection not in ("perspective", "orthographic"):
+        raise InputError(f"unknown projection '{projection}': use 'perspective' or 'orthographic'")
+    if cmap not in COLORMAPS:
+        raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
+    if wireframe not in (True, False, "auto"):
+        raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
+    gradient, transparent = _background(background)
+    n_vertices, n_faces = _validated_counts(V, F)
+
+    low = high = None
+    if scalar is not None:
+        if scalar_range is None:
+            low, high = globals()["scalar_range"](scalar, n_vertices, cmap)
+        else:
+            low, high = _check_range(scalar_range)
+        if colorbar is None:
+            colorbar = True
+    colorbar = bool(colorbar) and scalar is not None
+
+    count = len(view_list)
+    if columns is None:
+        columns = count if count <= 3 else math.ceil(math.sqrt(count))
+    if not isinstance(columns, (int, np.integer)) or columns < 1:
+        raise InputError(f"columns must be a positive integer, got {columns!r}")
+    columns = min(int(columns), count)
+    rows = math.ceil(count / columns)
+    total_width, total_height = columns * width, rows * height
+
+    # Layout: a title band on top, a colour bar strip on the right, panels in the rest.
+    title_height = max(22, round(0.065 * total_height)) if title else 0
+    bar_width = max(72, round(0.12 * total_width)) if colorbar else 0
+    grid_width, grid_height = total_width - bar_width, total_height - title_height
+    if grid_width < columns or grid_height < rows:
+        raise InputError(f"size {size} is too small for the title and the colour bar")
+
+    canvas = _background_canvas(total_width, total_height, gradient, transparent)
+    wire = wireframe
+    if wireframe == "auto":
+        wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
+    options = dict(
+        width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
+        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=1.0,
+        front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
+        wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,
+        scalar=scalar, scalar_min=0.0 if low is None else float(low),
+        scalar_max=1.0 if high is None else float(high), colormap=cmap, uv=uv,
+        checker_size=0.0 if checker_size is None else float(checker_size))
+
+    labels = []
+    for index, (azimuth, elevation) in enumerate(angles):
+        row, column = divmod(index, columns)
+        x0, x1 = column * grid_width // columns, (column + 1) * grid_width // columns
+        y0 = title_height + row * grid_height // rows
+        y1 = title_height + (row + 1) * grid_height // rows
+        panel_width, panel_height = x1 - x0, y1 - y0
+        cam = camera if camera is not None else frame_camera(
+            V, (azimuth, elevation), size=(panel_width, panel_height), up=up, fov=fov,
+            orthographic=projection == "orthographic")
+        top = _gradient_at(gradient, y0, total_height)
+        bottom = _gradient_at(gradient, y1 - 1, total_height)
+        options.update(width=panel_width, height=panel_height,
+                       background_top=top, background_bottom=bottom)
+        panel = _core.render_mesh(V, F, eye=cam.eye, target=cam.target, up=cam.up,
+                                  fov_y_deg=cam.fov_y_deg, orthographic=cam.orthographic,
+                                  ortho_height=cam.ortho_height, **options)
+        canvas[y0:y1, x0:x1] = panel if transparent else panel[..., :3]
+        if count > 1:
+            labels.append(((x0, y0), view_list[index]))
+
+    if title or colorbar or labels:
+        canvas = _annotate(canvas, title=title, title_height=title_height, labels=labels,
+                           colorbar=(cmap, low, high, scalar_label, bar_width) if colorbar else None,
+                           transparent=transparent)
+    if path is not None:
+        _save_png(canvas, path)
+    return canvas
+
+
+def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="viridis",
+                     scalar_range=None, scalar_label=None, title=None, background="white",
+                     supersample=3) -> np.ndarray:
+    """Draw a 2D parametrization: the triangles of F laid out at their texture coordinates.
+
+    UV: (n, 2) float array of per-vertex texture coordinates. F: (m, 3) integer triangles.
+    Triangles are filled light blue with dark edges; flipped triangles (clockwise in UV, i.e.
+    fold-overs) are filled in the warm back-face tint so they stand out. An optional per-vertex
+    `scalar` (n,) colours the layout instead (e.g. a distortion measure), with a colour bar.
+    The layout keeps its aspect ratio (orthographic view). Other arguments as in
+    :func:`render`. Returns the (height, width, 3) uint8 picture; writes a PNG if `path` is given.
+    Raises InputError for a UV array that is not (n, 2), bad faces, or bad arguments.
+    """
+    UV = _core_uv(UV)
+    V = np.column_stack([UV, np.zeros(len(UV))])
+    return render(V, F, path, size=size, view="front", projection="orthographic",
+                  scalar=scalar, cmap=cmap, scalar_range=scalar_range, scalar_label=scalar_label,
+                  wireframe=True, lighting=False, color=(0.80, 0.87, 0.96),
+                  back_color=(0.95, 0.45, 0.35), title=title, background=background,
+                  supersample=supersample)
+
+
+# ---- helpers ----------------------------------------------------------------------------------
+
+def _check_size(size) -> tuple[int, int]:
+    try:
+        width, height = size
+        valid = all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
+    except (TypeError, ValueError):
+        valid = False
+    if not valid or width <= 0 or height <= 0:
+        raise InputError(f"size must be (width, height) with positive integers, got {size!r}")
+    return int(width), int(height)
+
+
+def _check_range(value) -> tuple[float, float]:
+    try:
+        low, high = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise InputError(f"scalar_range must be a (low, high) pair, got {value!r}") from None
+    if not (math.isfinite(low) and math.isfinite(high) and low <= high):
+        raise InputError(f"scalar_range must be finite with low <= high, got {value!r}")
+    return low, high
+
+
+def _validated_counts(V, F) -> tuple[int, int]:
+    """(#V, #F) after the core's checks of the mesh (dtype, shape, NaN/Inf, index range)."""
+    from ._core import core as _core_checks
+    _core_checks.validate_mesh(V, F)
+    return len(V), len(F)
+
+
+def _core_uv(UV) -> np.ndarray:
+    array = np.asarray(UV)
+    if array.ndim != 2 or array.shape[1] != 2 or array.dtype.kind not in "fiu":
+        raise InputError(f"UV has shape {array.shape} and dtype {array.dtype}: "
+                         "expected (n, 2) real texture coordinates")
+    return array.astype(np.float64)
+
+
+def _unit_color(value, name) -> tuple[float, float, float]:
+    try:
+        rgb = tuple(float(c) for c in value)
+    except (TypeError, ValueError):
+        rgb = ()
+    if len(rgb) != 3 or not all(0.0 <= c <= 1.0 for c in rgb):
+        raise InputError(f"{name} must be an sRGB triple in [0, 1], got {value!r}")
+    return rgb
+
+
+def _parse_color(value) -> tuple[float, float, float]:
+    """A colour name, '#rrggbb', or a triple of 0-255 ints / 0-1 floats → sRGB in [0, 1]."""
+    if isinstance(value, str):
+        named = {"white": (255, 255, 255), "black": (0, 0, 0)}
+        if value in named:
+            rgb = named[value]
+        else:
+            try:
+                from PIL import ImageColor
+                rgb = ImageColor.getrgb(value)[:3]
+            except ImportError:
+                raise ImportError(_PILLOW_MISSING) from None
+            except ValueError:
+                raise InputError(f"unknown background colour '{value}'") from None
+        return tuple(c / 255.0 for c in rgb)
+    try:
+        rgb = tuple(value)
+    except TypeError:
+        raise InputError(f"background colour {value!r} is not a colour") from None
+    if len(rgb) != 3:
+        raise InputError(f"background colour {value!r} must have 3 components")
+    if all(isinstance(c, (int, np.integer)) for c in rgb):
+        if not all(0 <= c <= 255 for c in rgb):
+            raise InputError(f"background colour {value!r}: integers must be in 0..255")
+        return tuple(c / 255.0 for c in rgb)
+    rgb = tuple(float(c) for c in rgb)
+    if not all(0.0 <= c <= 1.0 for c in rgb):
+        raise InputError(f"background colour {value!r}: floats must be in [0, 1]")
+    return rgb
+
+
+def _background(background):
+    """(gradient (top, bottom) in [0, 1], transparent?) for the `background` argument."""
+    if isinstance(background, str) and background == "gradient":
+        return _GRADIENT, False
+    if isinstance(background, str) and background == "transparent":
+        return ((1.0, 1.0, 1.0), (1.0, 1.0, 1.0)), True
+    if (isinstance(background, (tuple, list)) and len(background) == 2
+            and not isinstance(background[0], (int, float, np.number))):
+        return (_parse_color(background[0]), _parse_color(background[1])), False
+    color = _parse_color(background)
+    return (color, color), False
+
+
+def _gradient_at(gradient, row: int, total_rows: int) -> tuple[float, float, float]:
+    t = row / (total_rows - 1) if total_rows > 1 else 0.0
+    top, bottom = np.asarray(gradient[0]), np.asarray(gradient[1])
+    return tuple(float(c) for c in (1.0 - t) * top + t * bottom)
+
+
+def _background_canvas(width, height, gradient, transparent) -> np.ndarray:
+    if transparent:
+        return np.zeros((height, width, 4), dtype=np.uint8)
+    t = np.linspace(0.0, 1.0, height)[:, None] if height > 1 else np.zeros((1, 1))
+    rows = (1.0 - t) * np.asarray(gradient[0])[None, :] + t * np.asarray(gradient[1])[None, :]
+    rows = np.clip(np.rint(rows * 255.0), 0, 255).astype(np.uint8)
+    return np.ascontiguousarray(np.broadcast_to(rows[:, None, :], (height, width, 3)))
+
+
+_PILLOW_MISSING = ("meshsmith.render needs Pillow for PNG files, titles and colour bars: "
+                   "pip install 'meshsmith[viz]' (or pip install pillow)")
+
+
+def _pillow():
+    try:
+        from PIL import Image, ImageDraw, ImageFont
+    except ImportError:
+        raise ImportError(_PILLOW_MISSING) from None
+    return Image, ImageDraw, ImageFont
+
+
+def _font(size: int):
+    _, _, ImageFont = _pillow()
+    for name in ("DejaVuSans.ttf", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+                 "Arial.ttf", "LiberationSans-Regular.ttf"):
+        try:
+            return ImageFont.truetype(name, size)
+        except OSError:
+            continue
+    try:
+        return ImageFont.load_default(size=size)
+    except TypeError:  # Pillow < 10.1 has only the fixed bitmap font
+        return ImageFont.load_default()
+
+
+def _format_tick(value: float, low: float, high: float) -> str:
+    span = abs(high - low)
+    if value == 0.0:
+        return "0"
+    magnitude = max(abs(low), abs(high), 1e-300)
+    if magnitude >= 1e5 or magnitude < 1e-3:
+        return f"{value:.3g}"
+    digits = max(0, 2 - int(math.floor(math.log10(span)))) if span > 0 else 3
+    return f"{value:.{min(digits, 6)}f}"
+
+
+def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> np.ndarray:
+    """Title, view labels and the colour bar, drawn with Pillow."""
+    Image, ImageDraw, _ = _pillow()
+    image = Image.fromarray(canvas, "RGBA" if transparent else "RGB")
+    draw = ImageDraw.Draw(image)
+    width, height = image.size
+    text_fill = _TEXT_COLOR + ((255,) if transparent else ())
+    if title:
+        font = _font(max(12, int(title_height * 0.55)))
+        draw.text((width // 2, title_height // 2 + 2), str(title), fill=text_fill, font=font,
+                  anchor="mm")
+    if labels:
+        font = _font(max(10, min(18, height // 40)))
+        for (x, y), name in labels:
+            text = name if isinstance(name, str) else f"az {name[0]:g}°, el {name[1]:g}°"
+            draw.text((x + 8, y + 6), text, fill=text_fill, font=font)
+    if colorbar is not None:
+        cmap, low, high, label, bar_width = colorbar
+        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill)
+    return np.asarray(image).copy()
+
+
+def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill):
+    Image, _, _ = _pillow()
+    width, height = image.size
+    strip_x = width - bar_width
+    available = height - top_offset
+    bar_height = max(10, int(available * 0.62))
+    bar_thickness = max(10, min(22, bar_width // 5))
+    font_size = max(10, min(16, bar_width // 6, available // 22))
+    font = _font(font_size)
+    bar_x = strip_x + max(6, bar_width // 8)
+    bar_y = top_offset + (available - bar_height) // 2 + font_size // 2
+    table = colormap(cmap, bar_height)[::-1]  # high values on top
+    pixels = np.clip(np.rint(table * 255.0), 0, 255).astype(np.uint8)
+    bar = np.broadcast_to(pixels[:, None, :], (bar_height, bar_thickness, 3))
+    mode = image.mode
+    bar_image = Image.fromarray(np.ascontiguousarray(bar), "RGB").convert(mode)
+    image.paste(bar_image, (bar_x, bar_y))
+    outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
+    draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
+    ticks = [(high, bar_y), ((low + high) / 2.0, bar_y + bar_height // 2), (low, bar_y + bar_height - 1)]
+    for value, y in ticks:
+        draw.line([bar_x + bar_thickness, y, bar_x + bar_thickness + 4, y], fill=outline)
+        draw.text((bar_x + bar_thickness + 7, y), _format_tick(value, low, high), fill=text_fill,
+                  font=font, anchor="lm")
+    if label:
+        draw.text((strip_x + bar_width // 2, bar_y - font_size - 4), str(label), fill=text_fill,
+                  font=font, anchor="ms")
+
+
+def _save_png(canvas: np.ndarray, path) -> None:
+    Image, _, _ = _pillow()
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        raise InputError(f"cannot write {path}: folder {path.parent} does not exist")
+    Image.fromarray(canvas, "RGBA" if canvas.shape[2] == 4 else "RGB").save(path, optimize=False)
