@@ -56,6 +56,7 @@ def test_consumer_reads_a_mesh_and_prints_its_counts(consumer, tmp_path):
     counts = dict(line.split(": ") for line in result.stdout.strip().splitlines())
     assert int(counts["vertices"]) == len(V) == 162
     assert int(counts["faces"]) == len(F) == 320
+    assert int(counts["edges"]) == 480
     assert counts["meshsmith"] == meshsmith.__version__
 
 

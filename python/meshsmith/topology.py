@@ -164,6 +164,12 @@ class MeshInfo:
     surface_area: float
     volume: float                   # signed; meaningful for closed oriented meshes
 
+    def as_dict(self) -> dict:
+        """The figures as plain Python values (JSON-ready): the bounding box as two lists."""
+        figures = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        figures["bounding_box"] = [np.asarray(corner).tolist() for corner in self.bounding_box]
+        return figures
+
     def __str__(self) -> str:
         def count(value):
             return f"{value:,}"
