@@ -1,5 +1,6 @@
-"""Topology chapter (§1.1): edges, boundary loops, components, Euler characteristic, genus,
-manifoldness and orientation, and the split that makes a non-manifold mesh manifold.
+"""Topology chapter (§2, mesh definitions: the manifold conditions, Euler's formula): edges,
+boundary loops, components, Euler characteristic, genus, manifoldness and orientation, and the
+split that makes a non-manifold mesh manifold.
 
 Definitions (the same in every function; see cpp/include/meshsmith/topology/manifold.h):
 

@@ -20,6 +20,11 @@ Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices) {
             << " are supported";
     throw InputError(message.str());
   }
+  if (n_vertices > std::numeric_limits<int>::max()) {
+    std::ostringstream message;
+    message << "n_vertices = " << n_vertices << " exceeds the 32-bit index range";
+    throw InputError(message.str());
+  }
   int largest = -1;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {

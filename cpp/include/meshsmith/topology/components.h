@@ -1,6 +1,6 @@
 #pragma once
 /// \file components.h
-/// Connected components of a triangle mesh (§1.1).
+/// Connected components of a triangle mesh (§2, mesh definitions).
 #include <meshsmith/core/types.h>
 
 namespace meshsmith::topology {

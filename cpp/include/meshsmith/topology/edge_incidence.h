@@ -1,7 +1,7 @@
 #pragma once
 /// \file edge_incidence.h
-/// Unique undirected edges of a triangle mesh and which face sides lie on each (§1.1, the
-/// combinatorics every other topology query is built on). Computed in O(#F) by bucketing the
+/// Unique undirected edges of a triangle mesh and which face sides lie on each (§2, M = (V, E, F):
+/// the combinatorics every other topology query is built on). Computed in O(#F) by bucketing the
 /// sides by their smaller vertex, so it is cheap enough to rebuild, and it can be passed to the
 /// overloads in boundary.h, manifold.h and characteristics.h to be computed only once.
 #include <meshsmith/core/types.h>
