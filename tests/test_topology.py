@@ -355,3 +355,12 @@ def test_inputs_are_not_modified():
 def test_connected_components_rejects_a_bad_vertex_count(n_vertices, message):
     with pytest.raises(meshsmith.InputError, match=re.escape(message)):
         topology.connected_components(np.array([[0, 1, 2]]), n_vertices=n_vertices)
+
+
+def test_a_stray_huge_index_is_rejected_instead_of_allocating_for_it():
+    F = np.array([[0, 1, 2], [0, 2, 2_000_000_000]])
+    with pytest.raises(meshsmith.InputError, match=re.escape("F[1] = (0, 2, 2000000000) indexes vertex")):
+        topology.edges(F)
+    # With an explicit vertex count the caller decides how many vertices there are.
+    labels = topology.connected_components(np.array([[0, 1, 2]]), n_vertices=10).vertex_labels
+    assert labels.tolist() == [0, 0, 0] + [-1] * 7

@@ -40,7 +40,21 @@ Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices) {
       largest = std::max(largest, index);
     }
   }
-  return n_vertices >= 0 ? n_vertices : Eigen::Index(largest) + 1;
+  if (n_vertices >= 0) return n_vertices;
+  // Without a vertex count, #V is inferred from the largest index; arrays of #V entries are
+  // allocated, so a stray huge index in a small F must not cost gigabytes.
+  const Eigen::Index limit = 3 * F.rows() + (Eigen::Index(1) << 20);
+  if (largest >= limit) {
+    Eigen::Index f = 0;
+    while (F.row(f).maxCoeff() != largest) ++f;
+    std::ostringstream message;
+    message << "F[" << f << "] = (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
+            << ") indexes vertex " << largest << ", but " << F.rows()
+            << " faces reference at most " << 3 * F.rows() << " vertices: without a vertex count"
+            << " (V or n_vertices), indices must be below 3 #F + 2^20 = " << limit;
+    throw InputError(message.str());
+  }
+  return Eigen::Index(largest) + 1;
 }
 
 EdgeIncidence edge_incidence(const FaceRef& F, Eigen::Index n_vertices) {

@@ -27,7 +27,9 @@ struct EdgeIncidence {
 /// Checks F for the F-only topology queries and returns the number of vertices it implies.
 /// F: #F×3 triangles. `n_vertices` < 0 means "max index + 1"; otherwise indices must be below it.
 /// \throw InputError if F is empty, has a negative index, or an index >= n_vertices (the
-///        message names the face), or if 3#F overflows a 32-bit index.
+///        message names the face); if n_vertices is inferred and the largest index is at least
+///        3#F + 2^20 (mostly unreferenced vertices: pass the count); if 3#F or n_vertices
+///        overflows a 32-bit index.
 Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices = -1);
 
 /// Edge incidence of F (see EdgeIncidence). F: #F×3 triangles. Sides joining a vertex to itself
