@@ -364,3 +364,70 @@ def test_a_stray_huge_index_is_rejected_instead_of_allocating_for_it():
     # With an explicit vertex count the caller decides how many vertices there are.
     labels = topology.connected_components(np.array([[0, 1, 2]]), n_vertices=10).vertex_labels
     assert labels.tolist() == [0, 0, 0] + [-1] * 7
+
+
+def _random_damaged_spheres(count, seed=0):
+    """Random subsets of an icosphere's faces with a few vertices glued together: holes,
+    pinched boundaries, pinch vertices and non-manifold edges in every combination."""
+    rng = np.random.default_rng(seed)
+    V, F = datasets.icosphere(2)
+    for _ in range(count):
+        glue = np.arange(len(V))
+        for _ in range(rng.integers(0, 4)):
+            a, b = rng.integers(0, len(V), 2)
+            glue[glue == b] = a
+        G = glue[F[rng.random(len(F)) < rng.uniform(0.3, 1.0)]]
+        G = G[(G[:, 0] != G[:, 1]) & (G[:, 1] != G[:, 2]) & (G[:, 0] != G[:, 2])]
+        if len(G):
+            yield V, G
+
+
+def test_split_makes_any_damaged_mesh_manifold():
+    for V, F in _random_damaged_spheres(150):
+        V2, F2, origin = topology.split_non_manifold_vertices(V, F)
+        assert topology.is_manifold(F2)
+        assert np.array_equal(origin[F2], F) and np.array_equal(V2, V[origin])
+        if topology.is_manifold(F):
+            assert np.array_equal(F2, F) and len(V2) == len(V)
+
+
+def test_non_manifold_vertices_and_loops_agree_with_libigl_on_damaged_meshes():
+    compared_loops = 0
+    for _, F in _random_damaged_spheres(150, seed=1):
+        if len(topology.non_manifold_edges(F)):
+            continue   # libigl's is_vertex_manifold leaves non-manifold edges to is_edge_manifold
+        used = np.unique(F)
+        theirs = used[~igl.is_vertex_manifold(F)[used]]
+        ours = topology.non_manifold_vertices(F)
+        assert ours.tolist() == theirs.tolist()
+        if len(ours) == 0:
+            compared_loops += 1
+            assert (sorted(tuple(loop.tolist()) for loop in topology.boundary_loops(F))
+                    == sorted(tuple(loop) for loop in igl.boundary_loop_all(F)))
+    assert compared_loops >= 1
+
+
+def test_boundary_loops_agree_with_libigl_on_spheres_with_random_holes():
+    rng = np.random.default_rng(2)
+    V, F = datasets.icosphere(3)
+    compared = 0
+    for _ in range(60):
+        G = np.delete(F, rng.choice(len(F), size=rng.integers(2, 12), replace=False), axis=0)
+        if len(topology.non_manifold_vertices(G)):
+            continue   # a pinched boundary can be walked in more than one way
+        compared += 1
+        ours = topology.boundary_loops(G)
+        assert len(ours) >= 1
+        assert (sorted(tuple(loop.tolist()) for loop in ours)
+                == sorted(tuple(loop) for loop in igl.boundary_loop_all(G)))
+        info = topology.info(V, G)
+        assert info.genus == 0 and info.n_boundary_loops == len(ours)
+    assert compared > 10
+
+
+@pytest.mark.parametrize("name", ["cubes_complex_edge.obj", "cubes_complex_vertex.obj"])
+def test_split_creates_as_many_vertices_as_libigl(data_dir, name):
+    V, F = read_polygon_obj_as_fan(data_dir / name)
+    V2, _, _ = topology.split_non_manifold_vertices(V, F)
+    V_igl, F_igl, _ = igl.split_nonmanifold(V, F)
+    assert len(V2) == len(V_igl) and topology.is_manifold(F_igl)
