@@ -431,3 +431,10 @@ def test_split_creates_as_many_vertices_as_libigl(data_dir, name):
     V2, _, _ = topology.split_non_manifold_vertices(V, F)
     V_igl, F_igl, _ = igl.split_nonmanifold(V, F)
     assert len(V2) == len(V_igl) and topology.is_manifold(F_igl)
+
+
+def test_info_text_of_a_non_manifold_mesh(data_dir):
+    text = str(topology.info(*read_polygon_obj_as_fan(data_dir / "cubes_complex_edge.obj")))
+    assert "no  (1 non-manifold edge, 2 non-manifold vertices)" in text
+    assert "genus                 undefined" in text
+    assert re.search(r"^volume\s+2$", text, re.MULTILINE)   # closed and oriented: a true volume

@@ -169,6 +169,9 @@ class MeshInfo:
         def count(value):
             return f"{value:,}"
 
+        def amount(value, singular, plural):
+            return f"{value:,} {singular if value == 1 else plural}"
+
         def point(p):
             return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
@@ -180,18 +183,18 @@ class MeshInfo:
             ("faces", count(self.n_faces)),
             ("edges", count(self.n_edges)),
             ("components", count(self.n_components)),
-            ("boundary loops", f"{count(self.n_boundary_loops)}  ({count(self.n_boundary_edges)} edges)"),
+            ("boundary loops", f"{count(self.n_boundary_loops)}  ({amount(self.n_boundary_edges, 'edge', 'edges')})"),
             ("Euler characteristic", str(self.euler_characteristic)),
             ("genus", "undefined (not an orientable manifold)" if self.genus is None else str(self.genus)),
             ("manifold", "yes" if self.is_manifold else
-             f"no  ({count(self.n_non_manifold_edges)} non-manifold edges, "
-             f"{count(self.n_non_manifold_vertices)} non-manifold vertices)"),
+             f"no  ({amount(self.n_non_manifold_edges, 'non-manifold edge', 'non-manifold edges')}, "
+             f"{amount(self.n_non_manifold_vertices, 'non-manifold vertex', 'non-manifold vertices')})"),
             ("oriented", "yes" if self.is_oriented else "no"),
             ("bounding box", f"{point(lo)} .. {point(hi)}"),
             ("size", point(hi - lo)),
             ("surface area", f"{self.surface_area:.6g}"),
             ("volume", f"{self.volume:.6g}"
-             + ("" if self.n_boundary_edges == 0 and self.is_oriented and self.is_manifold
+             + ("" if self.n_boundary_edges == 0 and self.is_oriented
                 else "  (not closed and oriented: not a true volume)")),
         ]
         width = max(len(name) for name, _ in rows)

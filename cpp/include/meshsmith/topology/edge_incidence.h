@@ -3,7 +3,8 @@
 /// Unique undirected edges of a triangle mesh and which face sides lie on each (§2, M = (V, E, F):
 /// the combinatorics every other topology query is built on). Computed in O(#F) by bucketing the
 /// sides by their smaller vertex, so it is cheap enough to rebuild, and it can be passed to the
-/// overloads in boundary.h, manifold.h and characteristics.h to be computed only once.
+/// overloads in boundary.h, manifold.h and characteristics.h to be computed only once (those
+/// overloads require, without checking, that the EdgeIncidence was computed from the same F).
 #include <meshsmith/core/types.h>
 
 #include <vector>

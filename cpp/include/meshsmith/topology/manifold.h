@@ -36,6 +36,7 @@ struct VertexFans {
 
 /// Fans of every vertex of F: the corners at each vertex are joined through its two-sided edges
 /// by a small union-find per vertex, vertices in parallel. O(#F log(max degree)).
+/// \pre incidence == edge_incidence(F, n) for some n.
 VertexFans vertex_fans(const FaceRef& F, const EdgeIncidence& incidence);
 
 /// Non-manifold vertices (ascending), as defined above.
