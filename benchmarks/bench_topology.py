@@ -70,20 +70,20 @@ def main():
     bench.report()
 
     bench = Benchmark("topology", f"manifold check (edges + vertices), {size}", repeats=3)
-    bench.time("meshsmith is_manifold", lambda: topology.is_manifold(F))
+    bench.time("meshsmith", lambda: topology.is_manifold(F))
     if igl:
         bench.time("libigl is_edge_manifold+is_vertex_manifold",
                    lambda: (igl.is_edge_manifold(F), igl.is_vertex_manifold(F)))
     bench.report()
 
-    bench = Benchmark("topology", f"full info, {size}", repeats=3)
-    bench.time("meshsmith info", lambda: topology.info(V, F))
+    bench = Benchmark("topology", f"info (all counts, area, volume), {size}", repeats=3)
+    bench.time("meshsmith", lambda: topology.info(V, F))
     if trimesh:
         def trimesh_summary():
             mesh = trimesh.Trimesh(V, F, process=False)
             return (mesh.edges_unique, mesh.euler_number, mesh.is_watertight, mesh.is_winding_consistent,
                     mesh.area, mesh.volume, len(mesh.split(only_watertight=False)))
-        bench.time("trimesh equivalent properties", trimesh_summary)
+        bench.time("trimesh same properties", trimesh_summary)
     bench.report()
 
     bench = Benchmark("topology", f"face areas, {size}", repeats=3)
@@ -95,7 +95,7 @@ def main():
     bench = Benchmark("topology", f"signed volume, {size}", repeats=3)
     bench.time("meshsmith", lambda: geometry.volume(V, F))
     if trimesh:
-        bench.time("trimesh mass_properties", lambda: trimesh.Trimesh(V, F, process=False).volume)
+        bench.time("trimesh Trimesh(V, F).volume", lambda: trimesh.Trimesh(V, F, process=False).volume)
     bench.report()
 
     for name, (Vg, Fg) in [("grid(810, 810)", datasets.grid(810, 810)),
