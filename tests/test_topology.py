@@ -438,3 +438,34 @@ def test_info_text_of_a_non_manifold_mesh(data_dir):
     assert "no  (1 non-manifold edge, 2 non-manifold vertices)" in text
     assert "genus                 undefined" in text
     assert re.search(r"^volume\s+2$", text, re.MULTILINE)   # closed and oriented: a true volume
+
+
+def _same_partition(a, b):
+    """True when label arrays a and b group the elements the same way."""
+    pairs = set(zip(np.asarray(a).tolist(), np.asarray(b).tolist()))
+    return len(pairs) == len(set(np.asarray(a).tolist())) == len(set(np.asarray(b).tolist()))
+
+
+def test_edge_connected_components_agree_with_libigl_facet_components():
+    F = np.array([[0, 1, 2], [0, 3, 4], [5, 6, 7], [1, 2, 8]])  # 0 and 1 touch at a vertex only
+    by_edge = topology.connected_components(F, connectivity="edge")
+    assert by_edge.count == 3 and by_edge.face_labels.tolist() == [0, 1, 2, 0]
+    assert by_edge.vertex_labels[0] == 0                        # the pinch: its lowest face's
+    assert topology.connected_components(F).count == 2
+    for _, G in _random_damaged_spheres(60, seed=3):
+        ours = topology.connected_components(G, connectivity="edge")
+        count, theirs = igl.facet_components(G)
+        assert ours.count == count and _same_partition(ours.face_labels, theirs)
+        by_vertex = topology.connected_components(G)
+        assert _same_partition(by_vertex.vertex_labels[np.unique(G)], igl.vertex_components(G)[np.unique(G)])
+
+
+def test_edge_connectivity_separates_the_cubes_touching_at_a_vertex(data_dir):
+    _, F = read_polygon_obj_as_fan(data_dir / "cubes_complex_vertex.obj")
+    assert topology.connected_components(F, connectivity="edge").count == 2
+    assert topology.connected_components(F, connectivity="vertex").count == 1
+
+
+def test_unknown_connectivity_is_an_input_error():
+    with pytest.raises(meshsmith.InputError, match="connectivity must be 'vertex' or 'edge', got 'face'"):
+        topology.connected_components(np.array([[0, 1, 2]]), connectivity="face")

@@ -66,17 +66,21 @@ void bind_topology(py::module_& m) {
     return out;
   }, py::arg("F"));
 
-  m.def("connected_components", [](const py::object& F, const py::object& n_vertices) {
+  m.def("connected_components", [](const py::object& F, const py::object& n_vertices,
+                                    const std::string& connectivity) {
     auto faces = as_index_matrix(F, "F", 3);
     const Eigen::Index n = vertex_count_argument(n_vertices);
+    if (connectivity != "vertex" && connectivity != "edge")
+      throw InputError("connectivity must be 'vertex' or 'edge', got '" + connectivity + "'");
+    const auto joined_by = connectivity == "edge" ? topology::Connectivity::Edge : topology::Connectivity::Vertex;
     topology::Components components;
     {
       py::gil_scoped_release release;
-      components = topology::connected_components(map_faces(faces), n);
+      components = topology::connected_components(map_faces(faces), n, joined_by);
     }
     return py::make_tuple(components.count, int64_vector(components.face_labels),
                           int64_vector(components.vertex_labels));
-  }, py::arg("F"), py::arg("n_vertices") = py::none());
+  }, py::arg("F"), py::arg("n_vertices") = py::none(), py::arg("connectivity") = "vertex");
 
   m.def("euler_characteristic", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);

@@ -12,7 +12,8 @@ Definitions (the same in every function; see cpp/include/meshsmith/topology/mani
   end of a non-manifold edge. Unreferenced vertices are not non-manifold.
 - A mesh is *manifold* when it has no non-manifold edge and no non-manifold vertex, and
   *oriented* when each edge with two faces is used once in each direction.
-- Components are *vertex-connected*: faces sharing only a vertex are in the same component.
+- Components are *vertex-connected* unless asked otherwise: faces sharing only a vertex are in
+  the same component (``connected_components(..., connectivity="edge")`` separates them).
 
 Functions that take only ``F`` infer the vertex count as ``F.max() + 1``. All inputs are checked
 by the C++ core; bad input raises :class:`meshsmith.InputError`.
@@ -58,21 +59,27 @@ def boundary_loops(F) -> list[np.ndarray]:
 
 @dataclass(frozen=True)
 class ConnectedComponents:
-    """Vertex-connected components of a mesh, numbered in the order of their first face."""
+    """Connected components of a mesh, numbered in the order of their first face."""
 
     count: int                  # number of components
     face_labels: np.ndarray     # (m,) int64, component of each face
     vertex_labels: np.ndarray   # (n,) int64, component of each vertex, -1 if no face uses it
 
 
-def connected_components(F, n_vertices: int | None = None) -> ConnectedComponents:
-    """Connected components of a mesh, two faces being connected when they share a vertex.
+def connected_components(F, n_vertices: int | None = None,
+                         connectivity: str = "vertex") -> ConnectedComponents:
+    """Connected components of a mesh.
 
     F: (m, 3) integer array of triangles. n_vertices: number of vertices n (default
     ``F.max() + 1``); pass ``len(V)`` to get a label (-1) for trailing unreferenced vertices.
-    Face 0 is always in component 0. Raises InputError for bad F or an index >= n_vertices.
+    connectivity: ``"vertex"`` (default, as ``igl.vertex_components`` and most tools): faces
+    sharing a vertex are connected, so two cubes touching at a corner are one component;
+    ``"edge"`` (as ``igl.facet_components``): only faces sharing an edge are, and a vertex in
+    several components is labelled with the component of its lowest-numbered face.
+    Face 0 is always in component 0. Raises InputError for bad F, an index >= n_vertices or an
+    unknown connectivity.
     """
-    count, face_labels, vertex_labels = _topology.connected_components(F, n_vertices)
+    count, face_labels, vertex_labels = _topology.connected_components(F, n_vertices, connectivity)
     return ConnectedComponents(int(count), face_labels, vertex_labels)
 
 
