@@ -15,8 +15,9 @@ Definitions (the same in every function; see cpp/include/meshsmith/topology/mani
 - Components are *vertex-connected* unless asked otherwise: faces sharing only a vertex are in
   the same component (``connected_components(..., connectivity="edge")`` separates them).
 
-Functions that take only ``F`` infer the vertex count as ``F.max() + 1``. All inputs are checked
-by the C++ core; bad input raises :class:`meshsmith.InputError`.
+Functions that take only ``F`` infer the vertex count as ``F.max() + 1`` (and reject a largest
+index of 3·m + 2^20 or more, m faces, rather than allocate for mostly unreferenced vertices). All
+inputs are checked by the C++ core; bad input raises :class:`meshsmith.InputError`.
 """
 from __future__ import annotations
 
