@@ -143,6 +143,14 @@ def test_sphere_points():
     (lambda: datasets.sample_points(np.zeros((3, 3)), [[0, 1, 2]], n=5), "zero area"),
     (lambda: datasets.sample_points(np.zeros((3, 3)), [[0, 1, 3]], n=5), "indexes vertex 3"),
     (lambda: datasets.sphere_points(0), "n must be at least 1"),
+    (lambda: datasets.icosphere(12), "at most MAX_ELEMENTS"),
+    (lambda: datasets.uv_sphere(10**5, 10**5), "at most MAX_ELEMENTS"),
+    (lambda: datasets.torus(n_major=10**6, n_minor=10**6), "at most MAX_ELEMENTS"),
+    (lambda: datasets.grid(10**5, 10**5), "at most MAX_ELEMENTS"),
+    (lambda: datasets.disk(10**4, 10**4), "at most MAX_ELEMENTS"),
+    (lambda: datasets.cube(10**3), "at most MAX_ELEMENTS"),
+    (lambda: datasets.sample_points(*datasets.cube(1), n=10**9), "at most MAX_ELEMENTS"),
+    (lambda: datasets.sphere_points(10**9), "at most MAX_ELEMENTS"),
 ])
 def test_bad_parameters_raise_input_error(call, message):
     with pytest.raises(meshsmith.InputError, match=re.escape(message)):

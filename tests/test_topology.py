@@ -346,3 +346,126 @@ def test_inputs_are_not_modified():
     topology.info(V, F)
     topology.boundary_loops(F)
     assert np.array_equal(V, V0) and np.array_equal(F, F0)
+
+
+@pytest.mark.parametrize("n_vertices, message", [(-1, "n_vertices must be non-negative"),
+                                                 (2.5, "n_vertices must be an integer"),
+                                                 (2**40, "exceeds the 32-bit index range"),
+                                                 (2**70, "out of range")])
+def test_connected_components_rejects_a_bad_vertex_count(n_vertices, message):
+    with pytest.raises(meshsmith.InputError, match=re.escape(message)):
+        topology.connected_components(np.array([[0, 1, 2]]), n_vertices=n_vertices)
+
+
+def test_a_stray_huge_index_is_rejected_instead_of_allocating_for_it():
+    F = np.array([[0, 1, 2], [0, 2, 2_000_000_000]])
+    with pytest.raises(meshsmith.InputError, match=re.escape("F[1] = (0, 2, 2000000000) indexes vertex")):
+        topology.edges(F)
+    # With an explicit vertex count the caller decides how many vertices there are.
+    labels = topology.connected_components(np.array([[0, 1, 2]]), n_vertices=10).vertex_labels
+    assert labels.tolist() == [0, 0, 0] + [-1] * 7
+
+
+def _random_damaged_spheres(count, seed=0):
+    """Random subsets of an icosphere's faces with a few vertices glued together: holes,
+    pinched boundaries, pinch vertices and non-manifold edges in every combination."""
+    rng = np.random.default_rng(seed)
+    V, F = datasets.icosphere(2)
+    for _ in range(count):
+        glue = np.arange(len(V))
+        for _ in range(rng.integers(0, 4)):
+            a, b = rng.integers(0, len(V), 2)
+            glue[glue == b] = a
+        G = glue[F[rng.random(len(F)) < rng.uniform(0.3, 1.0)]]
+        G = G[(G[:, 0] != G[:, 1]) & (G[:, 1] != G[:, 2]) & (G[:, 0] != G[:, 2])]
+        if len(G):
+            yield V, G
+
+
+def test_split_makes_any_damaged_mesh_manifold():
+    for V, F in _random_damaged_spheres(150):
+        V2, F2, origin = topology.split_non_manifold_vertices(V, F)
+        assert topology.is_manifold(F2)
+        assert np.array_equal(origin[F2], F) and np.array_equal(V2, V[origin])
+        if topology.is_manifold(F):
+            assert np.array_equal(F2, F) and len(V2) == len(V)
+
+
+def test_non_manifold_vertices_and_loops_agree_with_libigl_on_damaged_meshes():
+    compared_loops = 0
+    for _, F in _random_damaged_spheres(150, seed=1):
+        if len(topology.non_manifold_edges(F)):
+            continue   # libigl's is_vertex_manifold leaves non-manifold edges to is_edge_manifold
+        used = np.unique(F)
+        theirs = used[~igl.is_vertex_manifold(F)[used]]
+        ours = topology.non_manifold_vertices(F)
+        assert ours.tolist() == theirs.tolist()
+        if len(ours) == 0:
+            compared_loops += 1
+            assert (sorted(tuple(loop.tolist()) for loop in topology.boundary_loops(F))
+                    == sorted(tuple(loop) for loop in igl.boundary_loop_all(F)))
+    assert compared_loops >= 1
+
+
+def test_boundary_loops_agree_with_libigl_on_spheres_with_random_holes():
+    rng = np.random.default_rng(2)
+    V, F = datasets.icosphere(3)
+    compared = 0
+    for _ in range(60):
+        G = np.delete(F, rng.choice(len(F), size=rng.integers(2, 12), replace=False), axis=0)
+        if len(topology.non_manifold_vertices(G)):
+            continue   # a pinched boundary can be walked in more than one way
+        compared += 1
+        ours = topology.boundary_loops(G)
+        assert len(ours) >= 1
+        assert (sorted(tuple(loop.tolist()) for loop in ours)
+                == sorted(tuple(loop) for loop in igl.boundary_loop_all(G)))
+        info = topology.info(V, G)
+        assert info.genus == 0 and info.n_boundary_loops == len(ours)
+    assert compared > 10
+
+
+@pytest.mark.parametrize("name", ["cubes_complex_edge.obj", "cubes_complex_vertex.obj"])
+def test_split_creates_as_many_vertices_as_libigl(data_dir, name):
+    V, F = read_polygon_obj_as_fan(data_dir / name)
+    V2, _, _ = topology.split_non_manifold_vertices(V, F)
+    V_igl, F_igl, _ = igl.split_nonmanifold(V, F)
+    assert len(V2) == len(V_igl) and topology.is_manifold(F_igl)
+
+
+def test_info_text_of_a_non_manifold_mesh(data_dir):
+    text = str(topology.info(*read_polygon_obj_as_fan(data_dir / "cubes_complex_edge.obj")))
+    assert "no  (1 non-manifold edge, 2 non-manifold vertices)" in text
+    assert "genus                 undefined" in text
+    assert re.search(r"^volume\s+2$", text, re.MULTILINE)   # closed and oriented: a true volume
+
+
+def _same_partition(a, b):
+    """True when label arrays a and b group the elements the same way."""
+    pairs = set(zip(np.asarray(a).tolist(), np.asarray(b).tolist()))
+    return len(pairs) == len(set(np.asarray(a).tolist())) == len(set(np.asarray(b).tolist()))
+
+
+def test_edge_connected_components_agree_with_libigl_facet_components():
+    F = np.array([[0, 1, 2], [0, 3, 4], [5, 6, 7], [1, 2, 8]])  # 0 and 1 touch at a vertex only
+    by_edge = topology.connected_components(F, connectivity="edge")
+    assert by_edge.count == 3 and by_edge.face_labels.tolist() == [0, 1, 2, 0]
+    assert by_edge.vertex_labels[0] == 0                        # the pinch: its lowest face's
+    assert topology.connected_components(F).count == 2
+    for _, G in _random_damaged_spheres(60, seed=3):
+        ours = topology.connected_components(G, connectivity="edge")
+        count, theirs = igl.facet_components(G)
+        assert ours.count == count and _same_partition(ours.face_labels, theirs)
+        by_vertex = topology.connected_components(G)
+        assert _same_partition(by_vertex.vertex_labels[np.unique(G)], igl.vertex_components(G)[np.unique(G)])
+
+
+def test_edge_connectivity_separates_the_cubes_touching_at_a_vertex(data_dir):
+    _, F = read_polygon_obj_as_fan(data_dir / "cubes_complex_vertex.obj")
+    assert topology.connected_components(F, connectivity="edge").count == 2
+    assert topology.connected_components(F, connectivity="vertex").count == 1
+
+
+def test_unknown_connectivity_is_an_input_error():
+    with pytest.raises(meshsmith.InputError, match="connectivity must be 'vertex' or 'edge', got 'face'"):
+        topology.connected_components(np.array([[0, 1, 2]]), connectivity="face")

@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <string>
 
 namespace meshsmith::python {
 
@@ -26,8 +27,18 @@ py::array_t<std::int64_t> int64_vector(const Container& values) {
   return to_numpy(std::move(out));
 }
 
+/// None → -1 ("max index + 1" in the core); otherwise a non-negative integer.
 Eigen::Index vertex_count_argument(const py::object& n_vertices) {
-  return n_vertices.is_none() ? -1 : n_vertices.cast<Eigen::Index>();
+  if (n_vertices.is_none()) return -1;
+  if (!py::isinstance<py::int_>(n_vertices) && !py::hasattr(n_vertices, "__index__"))
+    throw InputError("n_vertices must be an integer or None, got " + std::string(py::repr(n_vertices)));
+  const auto count = py::reinterpret_steal<py::int_>(PyNumber_Index(n_vertices.ptr()));
+  if (!count) throw py::error_already_set();
+  int overflow = 0;
+  const long long value = PyLong_AsLongLongAndOverflow(count.ptr(), &overflow);
+  if (overflow != 0) throw InputError("n_vertices = " + std::string(py::str(count)) + " is out of range");
+  if (value < 0) throw InputError("n_vertices must be non-negative, got " + std::to_string(value));
+  return static_cast<Eigen::Index>(value);
 }
 
 }  // namespace
@@ -55,17 +66,21 @@ void bind_topology(py::module_& m) {
     return out;
   }, py::arg("F"));
 
-  m.def("connected_components", [](const py::object& F, const py::object& n_vertices) {
+  m.def("connected_components", [](const py::object& F, const py::object& n_vertices,
+                                    const std::string& connectivity) {
     auto faces = as_index_matrix(F, "F", 3);
     const Eigen::Index n = vertex_count_argument(n_vertices);
+    if (connectivity != "vertex" && connectivity != "edge")
+      throw InputError("connectivity must be 'vertex' or 'edge', got '" + connectivity + "'");
+    const auto joined_by = connectivity == "edge" ? topology::Connectivity::Edge : topology::Connectivity::Vertex;
     topology::Components components;
     {
       py::gil_scoped_release release;
-      components = topology::connected_components(map_faces(faces), n);
+      components = topology::connected_components(map_faces(faces), n, joined_by);
     }
     return py::make_tuple(components.count, int64_vector(components.face_labels),
                           int64_vector(components.vertex_labels));
-  }, py::arg("F"), py::arg("n_vertices") = py::none());
+  }, py::arg("F"), py::arg("n_vertices") = py::none(), py::arg("connectivity") = "vertex");
 
   m.def("euler_characteristic", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);

@@ -3,7 +3,8 @@
 Every mesh generator returns ``(V, F)``: V float64 (n, 3), F int64 (m, 3), counter-clockwise
 seen from outside (outward normals, positive :func:`meshsmith.geometry.volume` for closed
 shapes), manifold, without duplicate or unreferenced vertices. Bad parameters raise
-:class:`meshsmith.InputError`.
+:class:`meshsmith.InputError`, and so do sizes beyond ``MAX_ELEMENTS`` (2^26 ≈ 67M faces or
+points, several GB of arrays) rather than exhausting memory.
 """
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ import numpy as np
 
 from ._core import InputError
 
-__all__ = ["icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
+MAX_ELEMENTS = 2 ** 26
+
+__all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
            "sphere_points"]
 
 
@@ -25,6 +28,12 @@ def _integer(name: str, value, minimum: int) -> int:
     if value < minimum:
         raise InputError(f"{name} must be at least {minimum}, got {value}")
     return int(value)
+
+
+def _not_too_large(what: str, count: int) -> None:
+    if count > MAX_ELEMENTS:
+        raise InputError(f"these parameters ask for {count:,} {what}: at most "
+                         f"MAX_ELEMENTS = {MAX_ELEMENTS:,} are generated")
 
 
 def _positive(name: str, value) -> float:
@@ -61,6 +70,7 @@ def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[np.ndarray, n
     """
     subdivisions = _integer("subdivisions", subdivisions, 0)
     radius = _positive("radius", radius)
+    _not_too_large("faces", 20 * 4 ** subdivisions)
     t = (1.0 + 5.0 ** 0.5) / 2.0
     V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0],
                   [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
@@ -102,6 +112,7 @@ def uv_sphere(n_latitude: int = 32, n_longitude: int = 64,
     n_latitude = _integer("n_latitude", n_latitude, 2)
     n_longitude = _integer("n_longitude", n_longitude, 3)
     radius = _positive("radius", radius)
+    _not_too_large("faces", 2 * n_latitude * n_longitude)
     theta = np.pi * np.arange(1, n_latitude) / n_latitude          # polar angle of each ring
     phi = 2.0 * np.pi * np.arange(n_longitude) / n_longitude
     ring = np.stack([np.outer(np.sin(theta), np.cos(phi)), np.outer(np.sin(theta), np.sin(phi)),
@@ -146,6 +157,7 @@ def torus(major_radius: float = 1.0, minor_radius: float = 0.35, n_major: int = 
     if minor_radius >= major_radius:
         raise InputError(f"minor_radius ({minor_radius}) must be smaller than major_radius "
                          f"({major_radius}) for the torus not to intersect itself")
+    _not_too_large("faces", 2 * n_major * n_minor)
     u = 2.0 * np.pi * np.arange(n_major) / n_major
     v = 2.0 * np.pi * np.arange(n_minor) / n_minor
     U, W = np.meshgrid(u, v, indexing="ij")
@@ -167,6 +179,7 @@ def grid(nx: int = 32, ny: int = 32, size=(1.0, 1.0)) -> tuple[np.ndarray, np.nd
     except (TypeError, ValueError):
         raise InputError(f"size must be a pair (width, height), got {size!r}") from None
     width, height = _positive("size[0]", width), _positive("size[1]", height)
+    _not_too_large("faces", 2 * nx * ny)
     x, y = np.meshgrid(np.linspace(0.0, width, nx + 1), np.linspace(0.0, height, ny + 1),
                        indexing="ij")
     V = np.stack([x, y, np.zeros_like(x)], -1).reshape(-1, 3)
@@ -183,6 +196,7 @@ def disk(n_rings: int = 16, n_segments: int = 64, radius: float = 1.0) -> tuple[
     n_rings = _integer("n_rings", n_rings, 1)
     n_segments = _integer("n_segments", n_segments, 3)
     radius = _positive("radius", radius)
+    _not_too_large("faces", n_rings * (n_segments + 3))
     counts = np.maximum(3, np.rint(n_segments * np.arange(1, n_rings + 1) / n_rings).astype(int))
     starts = 1 + np.concatenate([[0], np.cumsum(counts)[:-1]])
     points = [np.zeros((1, 3))]
@@ -223,6 +237,7 @@ def cube(subdivisions: int = 8, size: float = 1.0) -> tuple[np.ndarray, np.ndarr
     """
     s = _integer("subdivisions", subdivisions, 1)
     size = _positive("size", size)
+    _not_too_large("lattice points", (s + 1) ** 3)
     # Lattice points on the cube's surface, numbered through a dense (s+1)^3 lookup table.
     lattice = np.stack(np.meshgrid(*[np.arange(s + 1)] * 3, indexing="ij"), -1).reshape(-1, 3)
     on_surface = np.any((lattice == 0) | (lattice == s), axis=1)
@@ -300,6 +315,7 @@ def sample_points(V, F, n: int, seed: int = 0, noise: float = 0.0) -> tuple[np.n
     """
     V, F = _mesh_arrays(V, F)
     n = _integer("n", n, 1)
+    _not_too_large("points", n)
     noise = _non_negative("noise", noise)
     normals, areas = _face_normals_and_areas(V, F)
     total = areas.sum()
@@ -322,6 +338,7 @@ def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> tuple[np.ndarra
     Raises InputError if n < 1 or radius <= 0.
     """
     n = _integer("n", n, 1)
+    _not_too_large("points", n)
     radius = _positive("radius", radius)
     rng = np.random.default_rng(seed)
     N = rng.normal(size=(n, 3))

@@ -1,5 +1,6 @@
-"""Topology chapter (§1.1): edges, boundary loops, components, Euler characteristic, genus,
-manifoldness and orientation, and the split that makes a non-manifold mesh manifold.
+"""Topology chapter (§2, mesh definitions: the manifold conditions, Euler's formula): edges,
+boundary loops, components, Euler characteristic, genus, manifoldness and orientation, and the
+split that makes a non-manifold mesh manifold.
 
 Definitions (the same in every function; see cpp/include/meshsmith/topology/manifold.h):
 
@@ -11,10 +12,12 @@ Definitions (the same in every function; see cpp/include/meshsmith/topology/mani
   end of a non-manifold edge. Unreferenced vertices are not non-manifold.
 - A mesh is *manifold* when it has no non-manifold edge and no non-manifold vertex, and
   *oriented* when each edge with two faces is used once in each direction.
-- Components are *vertex-connected*: faces sharing only a vertex are in the same component.
+- Components are *vertex-connected* unless asked otherwise: faces sharing only a vertex are in
+  the same component (``connected_components(..., connectivity="edge")`` separates them).
 
-Functions that take only ``F`` infer the vertex count as ``F.max() + 1``. All inputs are checked
-by the C++ core; bad input raises :class:`meshsmith.InputError`.
+Functions that take only ``F`` infer the vertex count as ``F.max() + 1`` (and reject a largest
+index of 3·m + 2^20 or more, m faces, rather than allocate for mostly unreferenced vertices). All
+inputs are checked by the C++ core; bad input raises :class:`meshsmith.InputError`.
 """
 from __future__ import annotations
 
@@ -57,21 +60,27 @@ def boundary_loops(F) -> list[np.ndarray]:
 
 @dataclass(frozen=True)
 class ConnectedComponents:
-    """Vertex-connected components of a mesh, numbered in the order of their first face."""
+    """Connected components of a mesh, numbered in the order of their first face."""
 
     count: int                  # number of components
     face_labels: np.ndarray     # (m,) int64, component of each face
     vertex_labels: np.ndarray   # (n,) int64, component of each vertex, -1 if no face uses it
 
 
-def connected_components(F, n_vertices: int | None = None) -> ConnectedComponents:
-    """Connected components of a mesh, two faces being connected when they share a vertex.
+def connected_components(F, n_vertices: int | None = None,
+                         connectivity: str = "vertex") -> ConnectedComponents:
+    """Connected components of a mesh.
 
     F: (m, 3) integer array of triangles. n_vertices: number of vertices n (default
     ``F.max() + 1``); pass ``len(V)`` to get a label (-1) for trailing unreferenced vertices.
-    Face 0 is always in component 0. Raises InputError for bad F or an index >= n_vertices.
+    connectivity: ``"vertex"`` (default, as ``igl.vertex_components`` and most tools): faces
+    sharing a vertex are connected, so two cubes touching at a corner are one component;
+    ``"edge"`` (as ``igl.facet_components``): only faces sharing an edge are, and a vertex in
+    several components is labelled with the component of its lowest-numbered face.
+    Face 0 is always in component 0. Raises InputError for bad F, an index >= n_vertices or an
+    unknown connectivity.
     """
-    count, face_labels, vertex_labels = _topology.connected_components(F, n_vertices)
+    count, face_labels, vertex_labels = _topology.connected_components(F, n_vertices, connectivity)
     return ConnectedComponents(int(count), face_labels, vertex_labels)
 
 
@@ -174,6 +183,9 @@ class MeshInfo:
         def count(value):
             return f"{value:,}"
 
+        def amount(value, singular, plural):
+            return f"{value:,} {singular if value == 1 else plural}"
+
         def point(p):
             return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
@@ -185,18 +197,18 @@ class MeshInfo:
             ("faces", count(self.n_faces)),
             ("edges", count(self.n_edges)),
             ("components", count(self.n_components)),
-            ("boundary loops", f"{count(self.n_boundary_loops)}  ({count(self.n_boundary_edges)} edges)"),
+            ("boundary loops", f"{count(self.n_boundary_loops)}  ({amount(self.n_boundary_edges, 'edge', 'edges')})"),
             ("Euler characteristic", str(self.euler_characteristic)),
             ("genus", "undefined (not an orientable manifold)" if self.genus is None else str(self.genus)),
             ("manifold", "yes" if self.is_manifold else
-             f"no  ({count(self.n_non_manifold_edges)} non-manifold edges, "
-             f"{count(self.n_non_manifold_vertices)} non-manifold vertices)"),
+             f"no  ({amount(self.n_non_manifold_edges, 'non-manifold edge', 'non-manifold edges')}, "
+             f"{amount(self.n_non_manifold_vertices, 'non-manifold vertex', 'non-manifold vertices')})"),
             ("oriented", "yes" if self.is_oriented else "no"),
             ("bounding box", f"{point(lo)} .. {point(hi)}"),
             ("size", point(hi - lo)),
             ("surface area", f"{self.surface_area:.6g}"),
             ("volume", f"{self.volume:.6g}"
-             + ("" if self.n_boundary_edges == 0 and self.is_oriented and self.is_manifold
+             + ("" if self.n_boundary_edges == 0 and self.is_oriented
                 else "  (not closed and oriented: not a true volume)")),
         ]
         width = max(len(name) for name, _ in rows)

@@ -20,7 +20,7 @@ Eigen::Index count_referenced_vertices(const FaceRef& F, Eigen::Index n_vertices
   return count;
 }
 
-/// Orients each component by breadth-first search across its two-sided edges; returns the first
+/// Orients each component by a depth-first search across its two-sided edges; returns the first
 /// face where the orientation contradicts itself (the component is non-orientable), or -1.
 int first_non_orientable_face(const FaceRef& F, const EdgeIncidence& incidence) {
   std::vector<signed char> flip(F.rows(), -1);  // -1: not reached yet

@@ -20,6 +20,11 @@ Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices) {
             << " are supported";
     throw InputError(message.str());
   }
+  if (n_vertices > std::numeric_limits<int>::max()) {
+    std::ostringstream message;
+    message << "n_vertices = " << n_vertices << " exceeds the 32-bit index range";
+    throw InputError(message.str());
+  }
   int largest = -1;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {
@@ -35,7 +40,21 @@ Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices) {
       largest = std::max(largest, index);
     }
   }
-  return n_vertices >= 0 ? n_vertices : Eigen::Index(largest) + 1;
+  if (n_vertices >= 0) return n_vertices;
+  // Without a vertex count, #V is inferred from the largest index; arrays of #V entries are
+  // allocated, so a stray huge index in a small F must not cost gigabytes.
+  const Eigen::Index limit = 3 * F.rows() + (Eigen::Index(1) << 20);
+  if (largest >= limit) {
+    Eigen::Index f = 0;
+    while (F.row(f).maxCoeff() != largest) ++f;
+    std::ostringstream message;
+    message << "F[" << f << "] = (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
+            << ") indexes vertex " << largest << ", but " << F.rows()
+            << " faces reference at most " << 3 * F.rows() << " vertices: without a vertex count"
+            << " (V or n_vertices), indices must be below 3 #F + 2^20 = " << limit;
+    throw InputError(message.str());
+  }
+  return Eigen::Index(largest) + 1;
 }
 
 EdgeIncidence edge_incidence(const FaceRef& F, Eigen::Index n_vertices) {

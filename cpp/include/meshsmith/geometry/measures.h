@@ -1,7 +1,7 @@
 #pragma once
 /// \file measures.h
-/// Areas and enclosed volume of a triangle mesh (§1.2, discrete surfaces: the triangle area
-/// |(b − a) × (c − a)| / 2 and the divergence theorem for volume).
+/// Areas and enclosed volume of a triangle mesh (§1.2: the surface area integral made discrete, the
+/// triangle area |(b − a) × (c − a)| / 2; the divergence theorem for the volume).
 #include <meshsmith/core/types.h>
 
 namespace meshsmith::geometry {

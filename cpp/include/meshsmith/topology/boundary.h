@@ -1,7 +1,7 @@
 #pragma once
 /// \file boundary.h
-/// Boundary loops of a triangle mesh (§1.1): the closed chains of edges that have exactly one
-/// incident face.
+/// Boundary loops of a triangle mesh (§2, mesh definitions): the closed chains of edges that have
+/// exactly one incident face.
 #include <meshsmith/topology/edge_incidence.h>
 
 #include <vector>

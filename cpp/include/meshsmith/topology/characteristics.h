@@ -1,7 +1,8 @@
 #pragma once
 /// \file characteristics.h
-/// Topological invariants (§1.1: Euler characteristic, genus) and the one-call topological
-/// summary of a mesh (Python's `meshsmith.topology.info` adds the geometric measures to it).
+/// Topological invariants (§2: Euler's formula V − E + F = 2 − 2g − b, b boundary loops) and the
+/// one-call topological summary of a mesh (Python's `meshsmith.topology.info` adds the geometric
+/// measures to it, so that topology does not depend on the geometry chapter).
 #include <meshsmith/core/types.h>
 #include <meshsmith/topology/edge_incidence.h>
 

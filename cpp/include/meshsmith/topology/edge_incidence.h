@@ -1,9 +1,10 @@
 #pragma once
 /// \file edge_incidence.h
-/// Unique undirected edges of a triangle mesh and which face sides lie on each (§1.1, the
-/// combinatorics every other topology query is built on). Computed in O(#F) by bucketing the
+/// Unique undirected edges of a triangle mesh and which face sides lie on each (§2, M = (V, E, F):
+/// the combinatorics every other topology query is built on). Computed in O(#F) by bucketing the
 /// sides by their smaller vertex, so it is cheap enough to rebuild, and it can be passed to the
-/// overloads in boundary.h, manifold.h and characteristics.h to be computed only once.
+/// overloads in boundary.h, manifold.h and characteristics.h to be computed only once (those
+/// overloads require, without checking, that the EdgeIncidence was computed from the same F).
 #include <meshsmith/core/types.h>
 
 #include <vector>
@@ -27,7 +28,9 @@ struct EdgeIncidence {
 /// Checks F for the F-only topology queries and returns the number of vertices it implies.
 /// F: #F×3 triangles. `n_vertices` < 0 means "max index + 1"; otherwise indices must be below it.
 /// \throw InputError if F is empty, has a negative index, or an index >= n_vertices (the
-///        message names the face), or if 3#F overflows a 32-bit index.
+///        message names the face); if n_vertices is inferred and the largest index is at least
+///        3#F + 2^20 (mostly unreferenced vertices: pass the count); if 3#F or n_vertices
+///        overflows a 32-bit index.
 Eigen::Index checked_vertex_count(const FaceRef& F, Eigen::Index n_vertices = -1);
 
 /// Edge incidence of F (see EdgeIncidence). F: #F×3 triangles. Sides joining a vertex to itself

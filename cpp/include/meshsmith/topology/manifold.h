@@ -1,7 +1,7 @@
 #pragma once
 /// \file manifold.h
 /// Manifoldness and orientation of a triangle mesh, and the repair that splits a non-manifold
-/// mesh into a manifold one without moving any point (§1.1, §5 repair).
+/// mesh into a manifold one without moving any point (§2: the manifold conditions; §2.4 repair).
 ///
 /// Definitions used throughout meshsmith:
 /// - A non-manifold EDGE has more than two incident face sides.
@@ -28,12 +28,15 @@ EdgeMatrix non_manifold_edges(const EdgeIncidence& incidence);
 
 /// Fans around the vertices (see the definitions above).
 struct VertexFans {
-  std::vector<int> corner_fan;  ///< 3#F: fan of each corner (3f + k), in [0, n_fans)
-  std::vector<int> fan_vertex;  ///< n_fans: the vertex of each fan; fans numbered by first corner
-  std::vector<int> fan_count;   ///< #V: number of fans at each vertex (0 if unreferenced)
+  std::vector<int> corner_fan;   ///< 3#F: fan of each corner (3f + k), in [0, n_fans)
+  std::vector<int> fan_offsets;  ///< #V+1: the fans of vertex v are fan_offsets[v] .. fan_offsets[v+1]-1,
+                                 ///< in the order of their first corner
+  int fan_count(Eigen::Index v) const { return fan_offsets[v + 1] - fan_offsets[v]; }
 };
 
-/// Fans of every vertex of F, computed by union-find over the corners. O(#F α(#F)).
+/// Fans of every vertex of F: the corners at each vertex are joined through its two-sided edges
+/// by a small union-find per vertex, vertices in parallel. O(#F log(max degree)).
+/// \pre incidence == edge_incidence(F, n) for some n.
 VertexFans vertex_fans(const FaceRef& F, const EdgeIncidence& incidence);
 
 /// Non-manifold vertices (ascending), as defined above.
@@ -62,7 +65,7 @@ struct SplitMesh {
 /// faces around a non-manifold edge are detached from each other too (each ends up sharing the
 /// edge with at most one other face: the one it was already connected to around both ends). The
 /// result is_manifold. Vertex i < #V keeps its index (its first fan keeps it); extra copies are
-/// appended in the order of their first corner. Unreferenced vertices are kept.
+/// appended in the order of the vertex they copy. Unreferenced vertices are kept.
 /// V: #V×3 positions, F: #F×3 triangles.
 /// \pre validate_mesh(V, F) passes (called here).
 /// \throw InputError if it does not.
