@@ -6,9 +6,9 @@ Chapters are submodules (``meshsmith.io``, ``meshsmith.topology``, ...); errors 
 and :class:`Cancelled` (a progress callback returned False).
 """
 from ._core import Cancelled, InputError, SolverError
-from . import core, datasets, io, topology
+from . import core, datasets, geometry, io, topology
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "datasets",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "datasets",
            "__version__"]
