@@ -44,6 +44,12 @@ def test_knn_queries_match_ckdtree():
     reference_distances, reference_indices = cKDTree(P).query(Q, 7)
     np.testing.assert_array_equal(indices, reference_indices)
     np.testing.assert_allclose(distances, reference_distances, rtol=0, atol=1e-12)
+    # k beyond the fixed-size search buffers (64)
+    indices, distances = mp.knn(P, 80, Q[:50])
+    reference_distances, reference_indices = cKDTree(P).query(Q[:50], 80)
+    np.testing.assert_array_equal(indices, reference_indices)
+    indices, _ = mp.knn(P, 80)
+    np.testing.assert_array_equal(indices, cKDTree(P).query(P, 81)[1][:, 1:])
     # k = n: every point, sorted by distance
     indices, distances = mp.knn(P[:20], 20, Q[:5])
     assert sorted(indices[0]) == list(range(20))
@@ -206,6 +212,9 @@ def test_normals_do_not_depend_on_point_order_and_input_is_untouched():
     np.testing.assert_allclose(np.abs((N[order] * N_permuted).sum(axis=1)), 1.0, atol=1e-9)
     tree = mp.KdTree(P)
     np.testing.assert_array_equal(tree.estimate_normals(10), N)
+    # large neighbourhoods (beyond the fixed-size buffers) agree with radial normals
+    _, truth = sphere_sample(3000, seed=3)
+    assert angles_deg(mp.estimate_normals(P, 100), truth).mean() < 3.0
 
 
 @pytest.mark.parametrize("call", [
