@@ -71,7 +71,7 @@ def main() -> None:
     bench.report()
 
     bench = Benchmark("points", "kNN of every point, 1M points, k=16", repeats=3)
-    bench.time("meshsmith knn", lambda: mp.knn(P, 16))
+    bench.time("meshsmith", lambda: mp.knn(P, 16))
     bench.time("meshsmith KdTree build", lambda: mp.KdTree(P))
     bench.time("scipy cKDTree build+query", lambda: cKDTree(P).query(P, 17, workers=-1))
     bench.report()
