@@ -40,11 +40,13 @@ void fit_plane(const VertexMatrix& points, const std::uint32_t* neighbors, int c
   solver.computeDirect(covariance);
   Eigen::Vector3d eigenvalues = solver.eigenvalues();
   Eigen::Vector3d smallest = solver.eigenvectors().col(0);
-  // The closed form loses accuracy when eigenvalues nearly coincide; check its residual and
-  // fall back to the iterative (QR) solver when it is not at round-off level.
-  const double largest = std::max(std::abs(eigenvalues(2)), std::abs(eigenvalues(0)));
+  // The closed form loses accuracy when the two smallest eigenvalues are close relative to the
+  // largest (thin or nearly isotropic neighbourhoods). The angle between the computed and the
+  // true eigenvector is at most residual / (λ1 − λ0); where that bound exceeds 1e-10 rad, solve
+  // again with the iterative (tridiagonal QR) solver, which is accurate to round-off.
   const double residual = (covariance * smallest - eigenvalues(0) * smallest).norm();
-  if (!smallest.allFinite() || !(residual <= 1e-11 * largest) ||
+  const double gap = eigenvalues(1) - eigenvalues(0);
+  if (!smallest.allFinite() || !(residual <= 1e-10 * gap) ||
       !(std::abs(smallest.norm() - 1.0) <= 1e-12)) {
     solver.compute(covariance);
     eigenvalues = solver.eigenvalues();
