@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <queue>
 #include <sstream>
 #include <string>
@@ -261,6 +262,9 @@ VertexMatrix orient_normals(const VertexRef& P, const VertexRef& N,
   // tree and takes the orientation that agrees with the vertex it joined through.
   VertexMatrix oriented = N;
   std::vector<char> in_tree(static_cast<std::size_t>(n), 0);
+  // Cheapest known edge to the tree per vertex: only improvements are queued, which keeps the
+  // lazy-deletion heap small.
+  std::vector<double> best_cost(static_cast<std::size_t>(n), std::numeric_limits<double>::infinity());
   struct Candidate {
     double cost;
     std::uint32_t vertex, parent;
@@ -279,7 +283,12 @@ VertexMatrix orient_normals(const VertexRef& P, const VertexRef& N,
     auto push_neighbors = [&](std::uint32_t v) {
       for (auto e = graph.offsets[v]; e < graph.offsets[v + 1]; ++e) {
         const std::uint32_t w = graph.targets[static_cast<std::size_t>(e)];
-        if (!in_tree[w]) queue.push({cost(v, w), w, v});
+        if (in_tree[w]) continue;
+        const double c = cost(v, w);
+        if (c < best_cost[w]) {
+          best_cost[w] = c;
+          queue.push({c, w, v});
+        }
       }
     };
     push_neighbors(seed);
