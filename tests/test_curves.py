@@ -260,3 +260,15 @@ def test_input_is_not_modified():
                      mc.arc_length_parametrization):
         function(P)
     np.testing.assert_array_equal(P, before)
+
+
+def test_rigid_motion_and_scale_invariance():
+    P, _ = helix(200)
+    rotation, _ = np.linalg.qr(np.random.default_rng(11).normal(size=(3, 3)))
+    moved = 2.5 * P @ rotation.T + [3.0, -1.0, 7.0]
+    for method in METHODS:
+        np.testing.assert_allclose(mc.curvature(moved, method=method),
+                                   mc.curvature(P, method=method) / 2.5, rtol=1e-9)
+    np.testing.assert_allclose(mc.tangents(moved), mc.tangents(P) @ rotation.T, atol=1e-9)
+    np.testing.assert_allclose(mc.normals(moved), mc.normals(P) @ rotation.T, atol=1e-9)
+    np.testing.assert_allclose(mc.arc_length(moved), 2.5 * mc.arc_length(P), rtol=1e-12)

@@ -259,6 +259,22 @@ def test_orientation_points_outward_on_spheres(noise):
     assert outward >= 0.99  # measured: 100% for both noise levels
 
 
+def test_orientation_on_a_torus():
+    # genus 1: outward means away from the tube's centre circle
+    rng = np.random.default_rng(12)
+    R, r = 2.0, 0.7
+    u, v = rng.uniform(0, 2 * np.pi, (2, 60000))
+    keep = rng.uniform(0, R + r, 60000) < R + r * np.cos(v)  # uniform in area
+    u, v = u[keep], v[keep]
+    P = np.stack([(R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u), r * np.sin(v)], 1)
+    tube_centre = np.stack([R * np.cos(u), R * np.sin(u), np.zeros_like(u)], 1)
+    truth = (P - tube_centre) / r
+    N = mp.estimate_normals(P, 16)
+    assert angles_deg(N, truth).mean() < 1.0
+    O = mp.orient_normals(P, N, 16)
+    assert ((O * truth).sum(axis=1) > 0).mean() >= 0.99
+
+
 def test_each_connected_component_is_seeded():
     A, _ = sphere_sample(3000, radius=1.0, seed=5)
     B, _ = sphere_sample(2000, radius=0.5, centre=(10.0, 0.0, 0.0), seed=6)
