@@ -203,6 +203,11 @@ def test_degenerate_neighbourhoods_have_documented_fallbacks():
     N, variation = mp.estimate_normals(P, 8, return_variation=True)
     np.testing.assert_array_equal(N[:20], np.tile([0.0, 0.0, 1.0], (20, 1)))
     np.testing.assert_allclose(variation[:20], 1 / 3)
+    # a cloud of identical points whose centroid does not round exactly: still the fallback
+    same = np.tile([[0.1, 0.7, 1e5 / 3]], (25, 1))
+    N, variation = mp.estimate_normals(same, 16, return_variation=True)
+    np.testing.assert_array_equal(N, np.tile([0.0, 0.0, 1.0], (25, 1)))
+    np.testing.assert_allclose(variation, 1 / 3)
     # collinear points: some unit normal perpendicular to the line
     line = np.outer(np.linspace(0, 1, 30), [1.0, 2.0, -1.0])
     N = mp.estimate_normals(line, 5)

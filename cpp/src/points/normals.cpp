@@ -59,8 +59,12 @@ void fit_plane(const VertexMatrix& points, const std::uint32_t* neighbors, int c
   *variation = clamped(0) / clamped.sum();
 }
 
-double bounding_box_diagonal(const VertexMatrix& points) {
-  return (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+/// Length scale below which a neighbourhood counts as a single point: the bounding-box
+/// diagonal, or (for a cloud of identical points) the size of the coordinates, whose rounding
+/// in the centroid leaves a covariance of order (1e-16 |p|)^2.
+double degeneracy_scale(const VertexMatrix& points) {
+  const double diagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+  return std::max(diagonal, 1e-2 * points.cwiseAbs().maxCoeff());
 }
 
 }  // namespace
@@ -88,8 +92,8 @@ NormalEstimate estimate_normals(const KdTree& tree, const NormalEstimationOption
                        " neighbours need at least k + 1 = " + std::to_string(options.k + 1));
     }
   }
-  const double diagonal = bounding_box_diagonal(points);
-  const double degenerate_trace = (1e-12 * diagonal) * (1e-12 * diagonal);
+  const double scale = degeneracy_scale(points);
+  const double degenerate_trace = (1e-12 * scale) * (1e-12 * scale);
   NormalEstimate result{VertexMatrix(n, 3), Eigen::VectorXd(n)};
   const auto& order = tree.leaf_order();
   const int wanted = options.k + 1;
@@ -132,12 +136,7 @@ NormalEstimate estimate_normals(const KdTree& tree, const NormalEstimationOption
 
 NormalEstimate estimate_normals(const VertexRef& P, const NormalEstimationOptions& options,
                                 const Progress& progress) {
-  validate_vertices(P, "P");
-  if (options.radius == 0.0 && options.k < 3) {
-    throw InputError("k = " + std::to_string(options.k) +
-                     ": normal estimation needs k >= 3 neighbours");
-  }
-  const KdTree tree(P);
+  const KdTree tree(P);  // validates P
   return estimate_normals(tree, options, progress);
 }
 

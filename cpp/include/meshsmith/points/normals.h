@@ -30,7 +30,8 @@ struct NormalEstimate {
 /// covariance M = Σ (p_j − c)(p_j − c)ᵀ of i's neighbourhood (c its centroid). The 3×3
 /// eigenproblem is solved in closed form (Eigen's computeDirect), and re-solved iteratively where
 /// the closed form's residual is not at round-off level.
-/// Degenerate neighbourhoods (all points coincide up to 1e-12 × the bounding-box diagonal) get
+/// Degenerate neighbourhoods (all points coincide up to 1e-12 × the bounding-box diagonal, or
+/// × 1e-2 of the largest coordinate when that is larger: a cloud of identical points) get
 /// the fallback normal (0, 0, 1) and surface variation 1/3; collinear ones get some unit normal
 /// perpendicular to the line. Never NaN.
 /// P: n×3 points. Parallel over points; the result does not depend on the thread count.
