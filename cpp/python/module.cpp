@@ -1,5 +1,6 @@
 // meshsmith._core: the compiled half of the Python package. One submodule per chapter.
 #include "bindings.h"
+#include "points_bindings.h"
 
 #include <meshsmith/core/errors.h>
 
@@ -21,4 +22,6 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_geometry(geometry);
   auto render = m.def_submodule("render");
   meshsmith::python::bind_render(render);
+  auto points = m.def_submodule("points");
+  meshsmith::python::bind_points(points);
 }
