@@ -8,7 +8,9 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 def shared_data_dir() -> Path | None:
-    candidates = [os.environ.get("MESHSMITH_DATA"), REPO.parent / "shared" / "data"]
+    # A clone sits beside shared/ (CI, /work/main); a git worktree one level deeper (/work/wt/x).
+    candidates = [os.environ.get("MESHSMITH_DATA"), REPO.parent / "shared" / "data",
+                  REPO.parent.parent / "shared" / "data"]
     for candidate in candidates:
         if candidate and Path(candidate, "README.md").is_file():
             return Path(candidate)

@@ -9,4 +9,5 @@ void bind_io(pybind11::module_& m);
 void bind_topology(pybind11::module_& m);
 void bind_render(pybind11::module_& m);
 void bind_geometry(pybind11::module_& m);
+void bind_points(pybind11::module_& m);
 }  // namespace meshsmith::python

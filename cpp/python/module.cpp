@@ -1,6 +1,5 @@
 // meshsmith._core: the compiled half of the Python package. One submodule per chapter.
 #include "bindings.h"
-#include "points_bindings.h"
 
 #include <meshsmith/core/errors.h>
 

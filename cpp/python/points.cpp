@@ -1,5 +1,5 @@
 // Bindings of the points chapter: kd-tree kNN / radius queries, PCA normals, normal orientation.
-#include "points_bindings.h"
+#include "bindings.h"
 #include "convert.h"
 
 #include <meshsmith/points/kd_tree.h>
