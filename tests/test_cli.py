@@ -22,7 +22,7 @@ def sphere_file(tmp_path):
     return path
 
 
-@pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["demo"]])
+@pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["normals"], ["demo"]])
 def test_every_command_has_help(command):
     result = run(*command, "--help")
     assert result.returncode == 0 and "usage: meshsmith" in result.stdout
@@ -115,3 +115,23 @@ def test_progress_bar_draws_and_finishes(capsys):
     assert bar(0.5, "stage") is True and bar(1.0, "stage") is True
     text = stream.getvalue()
     assert "#####....." in text and "100.0%" in text and text.endswith("\n")
+
+
+def test_normals_estimates_and_orients_outward(tmp_path):
+    from meshsmith import datasets
+    P, N_true = datasets.sample_points(*datasets.icosphere(3), 3000, seed=1)
+    source, out = tmp_path / "sphere.xyz", tmp_path / "oriented.xyz"
+    io.write_points(source, P)
+    result = run("normals", source, "-o", out, "--k", "12", "--orient")
+    assert result.returncode == 0, result.stderr
+    P2, N2 = io.read_points(out)
+    assert np.array_equal(P2, P)
+    agreement = np.einsum("ij,ij->i", N2, N_true)
+    assert np.mean(agreement > 0) >= 0.99 and np.median(agreement) > 0.99
+
+
+def test_normals_rejects_too_few_points(tmp_path):
+    source = tmp_path / "tiny.xyz"
+    io.write_points(source, np.eye(3))
+    result = run("normals", source, "-o", tmp_path / "out.xyz")
+    assert result.returncode == 1 and result.stderr.startswith("meshsmith: error:")

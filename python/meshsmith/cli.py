@@ -3,6 +3,7 @@
     meshsmith info FILE
     meshsmith convert IN OUT [--binary | --ascii]
     meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
+    meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
     meshsmith demo [--out DIR] [--input FILE]
 
 Every command has --help. Bad input prints one line `meshsmith: error: ...` on stderr and exits
@@ -103,6 +104,18 @@ def command_render(args) -> int:
     return 0
 
 
+def command_normals(args) -> int:
+    from . import io, points
+    P, _ = io.read_points(args.input)
+    progress = ProgressBar()
+    N = points.estimate_normals(P, k=args.k, radius=args.radius, progress=progress)
+    if args.orient:
+        N = points.orient_normals(P, N, k=args.k, progress=progress)
+    io.write_points(args.output, P, N)
+    print(f"wrote {args.output}: {len(P)} points with {'oriented' if args.orient else 'unoriented'} normals")
+    return 0
+
+
 def command_demo(args) -> int:
     from . import demo
     report = demo.run_demo(Path(args.out), input_path=args.input, progress=ProgressBar())
@@ -144,6 +157,17 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--height", type=int, default=600)
     render.add_argument("--title", help="title drawn on the picture (default: the file name)")
     render.set_defaults(run=command_render)
+
+    normals = commands.add_parser("normals", help="estimate (and orient) point-cloud normals",
+                                  description="Estimate normals of a point cloud by PCA of each point's "
+                                              "neighbourhood (§2.2); --orient makes them consistent by "
+                                              "propagation along a minimum spanning tree (outward for closed shapes).")
+    normals.add_argument("input", help="point cloud (XYZ or PLY; a mesh file gives its vertices)")
+    normals.add_argument("-o", "--output", required=True, help="output XYZ or PLY with normals")
+    normals.add_argument("--k", type=int, default=16, help="neighbours per point (default 16)")
+    normals.add_argument("--radius", type=float, help="use all neighbours within this radius instead of k")
+    normals.add_argument("--orient", action="store_true", help="orient the normals consistently")
+    normals.set_defaults(run=command_normals)
 
     demo = commands.add_parser("demo", help="run the whole pipeline and write an HTML report",
                                description="Run every stage of meshsmith on a built-in shape (or --input) "
