@@ -10,6 +10,8 @@ cd "$(dirname "$0")/.."
 
 DEBIAN_PACKAGES=(g++ make libeigen3-dev libopenmesh-dev libcgal-dev libgmp-dev libmpfr-dev
                  libboost-dev libsuitesparse-dev libspectra-dev libtbb-dev libnanoflann-dev)
+# Open3D (a benchmark peer) needs libusb at run time.
+if [[ ",$EXTRAS," == *",bench,"* ]]; then DEBIAN_PACKAGES+=(libusb-1.0-0); fi
 missing=()
 for package in "${DEBIAN_PACKAGES[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
