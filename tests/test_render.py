@@ -233,7 +233,7 @@ def test_wireframe_increases_dark_pixels(sphere):
     wired = R.render(V, F, size=(300, 300), wireframe=True)
     darker = luminance(plain) - luminance(wired)
     assert (darker > 40).sum() > 3000  # lines over the whole visible half of the sphere
-    assert (luminance(wired) < 90).sum() > 3 * (luminance(plain) < 90).sum()
+    assert (luminance(wired) < 90).sum() > (luminance(plain) < 90).sum() + 3000
     assert darker.min() > -1  # lines only darken
 
 

@@ -141,6 +141,7 @@ struct TriangleSetup {
     const ScreenVertex &a = *vertex[0], &b = *vertex[1], &c = *vertex[2];
     area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   }
+  bool front() const { return area2 < 0.0; }
   bool drawable() const {
     return vertex[0]->drawable && vertex[1]->drawable && vertex[2]->drawable && area2 != 0.0 &&
            std::isfinite(area2);
@@ -172,99 +173,124 @@ class Shader {
       const double span = options.scalar_max - options.scalar_min;
       scalar_scale_ = span > 0.0 ? 1.0 / span : 0.0;
     }
-    lights_ = {Light{Eigen::Vector3d(-0.45, 0.60, 0.66).normalized(), 0.72},   // key: upper left
-               Light{Eigen::Vector3d(0.70, -0.05, 0.55).normalized(), 0.26},   // fill: right
-               Light{Eigen::Vector3d(0.10, 0.45, -0.90).normalized(), 0.22}};  // rim: behind
+    lights_ = {Light{Eigen::Vector3d(-0.50, 0.65, 0.58).normalized(), 0.80},   // key: upper left
+               Light{Eigen::Vector3d(0.80, -0.15, 0.45).normalized(), 0.20},   // fill: right
+               Light{Eigen::Vector3d(0.20, 0.40, -0.90).normalized(), 0.25}};  // rim: behind
     halfway_ = (lights_[0].direction + Eigen::Vector3d::UnitZ()).normalized();
+    has_attribute_ = options.scalar.size() > 0 || options.uv.rows() > 0;
     wire_half_width_ = 0.5 * options.wireframe_width * options.supersample;
   }
 
-  /// Linear RGB of the sample at (x, y) (supersampled pixels) that shows triangle `face`.
-  Eigen::Vector3d shade(const TriangleSetup& triangle, int face, double x, double y) const {
-    std::array<double, 3> edge_value, weight;
+  /// Screen-space edge values and perspective-correct barycentric weights of sample (x, y).
+  struct SampleWeights {
+    std::array<double, 3> edge_value;
+    std::array<double, 3> weight;
+  };
+  SampleWeights weights(const TriangleSetup& triangle, double x, double y) const {
+    SampleWeights w;
     double total = 0.0;
     for (int k = 0; k < 3; ++k) {
-      edge_value[k] = triangle.edge[k](x, y);
-      const double screen_weight = std::max(0.0, edge_value[k] / triangle.area2);
-      weight[k] = screen_weight * triangle.vertex[k]->inverse_z;  // perspective-correct
-      total += weight[k];
+      w.edge_value[k] = triangle.edge[k](x, y);
+      const double screen_weight = std::max(0.0, w.edge_value[k] / triangle.area2);
+      w.weight[k] = screen_weight * triangle.vertex[k]->inverse_z;  // perspective-correct
+      total += w.weight[k];
     }
     if (total > 0.0) {
-      for (double& w : weight) w /= total;
+      for (double& v : w.weight) v /= total;
     } else {
-      weight = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+      w.weight = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
     }
-    const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
-    const bool front = triangle.area2 < 0.0;
+    return w;
+  }
 
+  /// The light a surface point receives: albedo * diffuse + specular (white).
+  struct Lighting {
+    double diffuse = 1.0;
+    double specular = 0.0;
+  };
+
+  /// Lighting at the sample (the expensive part of shading: shared by the samples of a pixel
+  /// that see the same triangle, as in multisample anti-aliasing).
+  Lighting lighting(const TriangleSetup& triangle, int face, const SampleWeights& w) const {
+    if (!options_.lighting) return {};
+    const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
     if (options_.smooth_shading)
-      for (int k = 0; k < 3; ++k) normal += weight[k] * vertex_normals_.row(index[k]).transpose();
+      for (int k = 0; k < 3; ++k) normal += w.weight[k] * vertex_normals_.row(index[k]).transpose();
     if (!(normal.squaredNorm() > 1e-12)) {
       const Eigen::Vector3d p0 = V_.row(index[0]), p1 = V_.row(index[1]), p2 = V_.row(index[2]);
       normal = (p1 - p0).cross(p2 - p0);
     }
     Eigen::Vector3d n(normal.dot(frame_.right), normal.dot(frame_.up), -normal.dot(frame_.forward));
     n.normalize();
-    if (!front) n = -n;
+    if (!triangle.front()) n = -n;
+    Lighting light;
+    light.diffuse = kAmbientGround + (kAmbientSky - kAmbientGround) * (0.5 + 0.5 * n.y());
+    for (const Light& source : lights_)
+      light.diffuse += source.intensity * std::max(0.0, n.dot(source.direction));
+    const double highlight = std::max(0.0, n.dot(halfway_));
+    const double h2 = highlight * highlight, h4 = h2 * h2, h8 = h4 * h4, h16 = h8 * h8;
+    light.specular = specular_ * h16 * h16 * h8;  // Blinn-Phong, exponent 40
+    return light;
+  }
 
+  /// Linear RGB of the sample: material (or scalar / checker colour) under `light`, then the
+  /// wireframe line over it.
+  Eigen::Vector3d color(const TriangleSetup& triangle, int face, const SampleWeights& w,
+                        const Lighting& light) const {
+    const bool front = triangle.front();
     Eigen::Vector3d albedo = front ? front_ : back_;
-    bool has_attribute = false;
-    Eigen::Vector3d attribute = Eigen::Vector3d::Ones();
-    if (options_.scalar.size() > 0) {
-      double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += weight[k] * options_.scalar[index[k]];
-      const double t = std::clamp((s - options_.scalar_min) * scalar_scale_, 0.0, 1.0);
-      attribute = scalar_scale_ > 0.0 ? colormap_[static_cast<int>(t * (kColormapSteps - 1) + 0.5)]
-                                      : colormap_[kColormapSteps / 2];
-      has_attribute = true;
-    }
-    if (options_.uv.rows() > 0) {
-      double u = 0.0, v = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Index row = options_.uv_per_corner ? 3 * static_cast<Eigen::Index>(face) + k
-                                                        : index[k];
-        u += weight[k] * options_.uv(row, 0);
-        v += weight[k] * options_.uv(row, 1);
+    if (has_attribute_) {
+      Eigen::Vector3d attribute = Eigen::Vector3d::Ones();
+      if (options_.scalar.size() > 0) {
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) s += w.weight[k] * options_.scalar[F_(face, k)];
+        const double t = std::clamp((s - options_.scalar_min) * scalar_scale_, 0.0, 1.0);
+        attribute = scalar_scale_ > 0.0 ? colormap_[static_cast<int>(t * (kColormapSteps - 1) + 0.5)]
+                                        : colormap_[kColormapSteps / 2];
       }
-      const long parity = static_cast<long>(std::floor(u / options_.checker_size)) +
-                          static_cast<long>(std::floor(v / options_.checker_size));
-      const bool dark = (parity & 1L) != 0;
-      if (has_attribute)
-        attribute *= dark ? 0.62 : 1.0;
-      else
-        attribute = dark ? checker_dark_ : checker_light_;
-      has_attribute = true;
+      if (options_.uv.rows() > 0) {
+        double u = 0.0, v = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Index row = options_.uv_per_corner ? 3 * static_cast<Eigen::Index>(face) + k
+                                                          : F_(face, k);
+          u += w.weight[k] * options_.uv(row, 0);
+          v += w.weight[k] * options_.uv(row, 1);
+        }
+        const long parity = static_cast<long>(std::floor(u / options_.checker_size)) +
+                            static_cast<long>(std::floor(v / options_.checker_size));
+        const bool dark = (parity & 1L) != 0;
+        if (options_.scalar.size() > 0)
+          attribute *= dark ? 0.62 : 1.0;
+        else
+          attribute = dark ? checker_dark_ : checker_light_;
+      }
+      albedo = front ? attribute : (0.4 * attribute + 0.6 * back_).eval();
     }
-    if (has_attribute) albedo = front ? attribute : 0.4 * attribute + 0.6 * back_;
-
-    Eigen::Vector3d color;
-    if (options_.lighting) {
-      double diffuse = 0.10 + 0.10 * (0.5 + 0.5 * n.y());  // hemisphere ambient: sky above
-      for (const Light& light : lights_) diffuse += light.intensity * std::max(0.0, n.dot(light.direction));
-      const double highlight = std::max(0.0, n.dot(halfway_));
-      const double h2 = highlight * highlight, h4 = h2 * h2, h8 = h4 * h4, h16 = h8 * h8;
-      const double specular = 0.16 * h16 * h16 * h8;  // Blinn-Phong, exponent 40
-      color = albedo * diffuse + Eigen::Vector3d::Constant(specular);
-    } else {
-      color = albedo;
-    }
+    Eigen::Vector3d result = albedo * light.diffuse + Eigen::Vector3d::Constant(
+        has_attribute_ ? 0.4 * light.specular : light.specular);
 
     if (options_.wireframe) {
-      double distance = std::numeric_limits<double>::infinity();
+      double distance = std::numeric_limits<double>::infinity(), longest = 0.0;
       for (int k = 0; k < 3; ++k) {
         const double length = triangle.edge[k].length();
-        if (length > 0.0) distance = std::min(distance, std::abs(edge_value[k]) / length);
+        longest = std::max(longest, length);
+        if (length > 0.0) distance = std::min(distance, std::abs(w.edge_value[k]) / length);
       }
       const double coverage = std::clamp(wire_half_width_ + 0.5 - distance, 0.0, 1.0);
-      const double alpha = coverage * options_.wireframe_opacity;
-      color = (1.0 - alpha) * color + alpha * wire_;
+      // Lines of triangles only a few pixels high fade, so dense meshes do not turn black.
+      const double altitude = longest > 0.0 ? std::abs(triangle.area2) / longest / options_.supersample : 0.0;
+      const double fade = std::clamp(altitude / kWireFadeAltitude, kWireMinimumFade, 1.0);
+      const double alpha = coverage * options_.wireframe_opacity * fade;
+      result = (1.0 - alpha) * result + alpha * wire_;
     }
-    return color;
+    return result;
   }
 
  private:
   static constexpr int kColormapSteps = 1024;
+  static constexpr double kAmbientGround = 0.05, kAmbientSky = 0.16, kSpecular = 0.18;
+  static constexpr double kWireFadeAltitude = 7.0, kWireMinimumFade = 0.35;  // output pixels
   const VertexRef& V_;
   const FaceRef& F_;
   CameraFrame frame_;
@@ -275,6 +301,8 @@ class Shader {
   std::array<Light, 3> lights_;
   double scalar_scale_ = 0.0;
   double wire_half_width_ = 0.5;
+  double specular_ = kSpecular;
+  bool has_attribute_ = false;
 };
 
 // ---- validation -----------------------------------------------------------------------------
@@ -483,6 +511,10 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
   image.height = options.height;
   image.pixels.assign(static_cast<std::size_t>(options.width) * options.height * 4, 0);
   const double samples_per_pixel = ss * ss;
+  // Without a wireframe or per-vertex attributes a triangle's colour within one pixel is its
+  // lighting alone, computed at the first sample that sees it.
+  const bool uniform_per_triangle =
+      !options.wireframe && options.scalar.size() == 0 && options.uv.rows() == 0;
   tbb::parallel_for(tbb::blocked_range<int>(0, options.height, 4), [&](const tbb::blocked_range<int>& range) {
     for (int row = range.begin(); row != range.end(); ++row) {
       const double t = options.height > 1 ? static_cast<double>(row) / (options.height - 1) : 0.0;
@@ -491,15 +523,34 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       for (int column = 0; column < options.width; ++column) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         int covered = 0;
+        // Lighting once per triangle seen in this pixel; colour and wireframe once per sample.
+        std::array<int, 16> group_face;
+        std::array<Shader::Lighting, 16> group_light;
+        std::array<Eigen::Vector3d, 16> group_color;  // when the colour does not vary per sample
+        int groups = 0;
         for (int sy = 0; sy < ss; ++sy) {
           const int y = row * ss + sy;
           for (int sx = 0; sx < ss; ++sx) {
             const int x = column * ss + sx;
             const int f = visible[static_cast<std::size_t>(y) * width + x];
             if (f < 0) continue;
-            const TriangleSetup triangle(screen, F, f);
-            sum += shader.shade(triangle, f, x + 0.5, y + 0.5);
             ++covered;
+            int g = 0;
+            while (g < groups && group_face[g] != f) ++g;
+            if (g < groups && uniform_per_triangle) {
+              sum += group_color[g];
+              continue;
+            }
+            const TriangleSetup triangle(screen, F, f);
+            const Shader::SampleWeights w = shader.weights(triangle, x + 0.5, y + 0.5);
+            if (g == groups) {
+              group_face[g] = f;
+              group_light[g] = shader.lighting(triangle, f, w);
+              ++groups;
+            }
+            const Eigen::Vector3d color = shader.color(triangle, f, w, group_light[g]);
+            if (uniform_per_triangle) group_color[g] = color;
+            sum += color;
           }
         }
         std::uint8_t* pixel = image.pixels.data() + (static_cast<std::size_t>(row) * options.width + column) * 4;

@@ -39,7 +39,7 @@ struct RenderOptions {
   bool wireframe = false;          ///< draw triangle edges
   double wireframe_width = 1.0;    ///< line width in output pixels, > 0
   Eigen::Vector3d wireframe_color{0.10, 0.11, 0.14};
-  double wireframe_opacity = 0.85; ///< in [0, 1]
+  double wireframe_opacity = 0.75; ///< in [0, 1]; lines of triangles under ~7 pixels high fade
 
   Eigen::Vector3d background_top{1.0, 1.0, 1.0};      ///< vertical gradient, top row
   Eigen::Vector3d background_bottom{0.88, 0.90, 0.94}; ///< bottom row
