@@ -463,3 +463,23 @@ def test_real_meshes_render_framed_and_shaded(data_dir, name, tmp_path):
     assert rows.min() > 0 and columns.min() > 0 and rows.max() < 299 and columns.max() < 399
     shade = luminance(image)[covered]
     assert shade.std() > 8  # shaded, not a flat silhouette
+
+
+def test_colour_bar_tick_labels_use_the_precision_of_the_range():
+    assert R._format_ticks([9.0, 6.0, 3.0]) == ["9", "6", "3"]
+    assert R._format_ticks([0.0123, 0.0, -0.0123]) == ["0.0123", "0", "-0.0123"]
+    assert R._format_ticks([2.5e6, 1.25e6, 0.0]) == ["2.5e+06", "1.25e+06", "0"]
+
+
+def test_default_colour_bar_is_left_out_of_tiny_pictures_but_not_when_asked(sphere):
+    V, F = sphere
+    tiny = R.render(V, F, size=(120, 90), scalar=V[:, 0], background="white")
+    assert tiny.shape == (90, 120, 3)
+    with pytest.raises(meshsmith.InputError, match="too small"):
+        R.render(V, F, size=(60, 90), scalar=V[:, 0], colorbar=True)
+
+
+def test_uv_layout_rejects_uvs_that_are_not_two_columns():
+    V, F = grid(2)
+    with pytest.raises(meshsmith.InputError, match=r"expected \(n, 2\)"):
+        R.render_uv_layout(V, F)

@@ -148,7 +148,8 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
         percentiles, symmetric about 0 for coolwarm when the values change sign.
     scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
-        `scalar` is given); it shows the low, middle and high values of the range.
+        `scalar` is given and the picture is wide enough); it shows the low, middle and high
+        values of the range.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
     uv: texture coordinates shown as a checkerboard, (n, 2) per vertex or (m, 3, 2) per
@@ -186,6 +187,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     n_vertices, n_faces = _validated_counts(V, F)
 
     low = high = None
+    colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
             low, high = globals()["scalar_range"](scalar, n_vertices, cmap)
@@ -206,7 +208,9 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
 
     # Layout: a title band on top, a colour bar strip on the right, panels in the rest.
     title_height = max(22, round(0.065 * total_height)) if title else 0
-    bar_width = max(72, round(0.12 * total_width)) if colorbar else 0
+    bar_width = max(64, round(0.14 * total_width)) if colorbar else 0
+    if colorbar and not colorbar_requested and bar_width > total_width // 3:
+        colorbar, bar_width = False, 0  # the default colour bar is left out of tiny pictures
     grid_width, grid_height = total_width - bar_width, total_height - title_height
     if grid_width < columns or grid_height < rows:
         raise InputError(f"size {size} is too small for the title and the colour bar")
@@ -409,15 +413,19 @@ def _font(size: int):
         return ImageFont.load_default()
 
 
-def _format_tick(value: float, low: float, high: float) -> str:
-    span = abs(high - low)
-    if value == 0.0:
-        return "0"
-    magnitude = max(abs(low), abs(high), 1e-300)
+def _format_ticks(values: Sequence[float]) -> list[str]:
+    """Labels for the colour bar's ticks, with the precision their spread needs."""
+    low, high = min(values), max(values)
+    magnitude = max(abs(low), abs(high))
+    if magnitude == 0.0:
+        return ["0" for _ in values]
     if magnitude >= 1e5 or magnitude < 1e-3:
-        return f"{value:.3g}"
+        return [f"{v:.3g}" for v in values]
+    if all(float(v).is_integer() for v in values):
+        return [f"{int(v)}" for v in values]
+    span = high - low
     digits = max(0, 2 - int(math.floor(math.log10(span)))) if span > 0 else 3
-    return f"{value:.{min(digits, 6)}f}"
+    return ["0" if v == 0.0 else f"{v:.{min(digits, 6)}f}" for v in values]
 
 
 def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> np.ndarray:
@@ -461,14 +469,24 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
     image.paste(bar_image, (bar_x, bar_y))
     outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
     draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
-    ticks = [(high, bar_y), ((low + high) / 2.0, bar_y + bar_height // 2), (low, bar_y + bar_height - 1)]
-    for value, y in ticks:
+    values = [high, (low + high) / 2.0, low]
+    positions = [bar_y, bar_y + bar_height // 2, bar_y + bar_height - 1]
+    for text, y in zip(_format_ticks(values), positions):
         draw.line([bar_x + bar_thickness, y, bar_x + bar_thickness + 4, y], fill=outline)
-        draw.text((bar_x + bar_thickness + 7, y), _format_tick(value, low, high), fill=text_fill,
-                  font=font, anchor="lm")
+        draw.text((bar_x + bar_thickness + 7, y), text, fill=text_fill, font=font, anchor="lm")
     if label:
-        draw.text((strip_x + bar_width // 2, bar_y - font_size - 4), str(label), fill=text_fill,
-                  font=font, anchor="ms")
+        # Fit the label over the strip: a smaller font first, then one word per line.
+        room = bar_width - 6
+        size = font_size
+        while size > 9 and draw.textlength(str(label), font=_font(size)) > room:
+            size -= 1
+        label_font = _font(size)
+        lines = [str(label)]
+        if draw.textlength(str(label), font=label_font) > room:
+            lines = str(label).split()
+        for k, line in enumerate(reversed(lines)):
+            draw.text((strip_x + bar_width // 2, bar_y - font_size // 2 - 6 - k * (size + 3)), line,
+                      fill=text_fill, font=label_font, anchor="ms")
 
 
 def _save_png(canvas: np.ndarray, path) -> None:
