@@ -483,3 +483,26 @@ def test_uv_layout_rejects_uvs_that_are_not_two_columns():
     V, F = grid(2)
     with pytest.raises(meshsmith.InputError, match=r"expected \(n, 2\)"):
         R.render_uv_layout(V, F)
+
+
+def test_camera_inside_a_closed_sphere_sees_its_inside_in_the_back_tint(sphere):
+    V, F = sphere
+    camera = R.Camera(eye=(0.0, 0.0, 0.0), target=(0.0, 0.0, -1.0), up=(0.0, 1.0, 0.0), fov_y_deg=60)
+    image = R.render(V, F, size=(160, 120), camera=camera, background="white")
+    r, g, b = image[60, 80].astype(int)
+    assert r > b + 30
+    # Triangles crossing the plane of the eye are left out, never drawn wrapped around.
+    behind = R.Camera(eye=(0.0, 0.0, 0.999), target=(0.0, 0.0, 2.0), up=(0.0, 1.0, 0.0))
+    outside = R.render(V, F, size=(160, 120), camera=behind, background="white")
+    assert np.all(outside == 255)
+
+
+def test_degenerate_cameras_are_rejected(sphere):
+    V, F = sphere
+    bad = [R.Camera(eye=(0, 0, 3), target=(0, 0, 3), up=(0, 1, 0)),
+           R.Camera(eye=(0, 0, 3), target=(0, 0, 0), up=(0, 0, 1)),
+           R.Camera(eye=(0, 0, 3), target=(0, 0, 0), up=(0, 1, 0), fov_y_deg=180),
+           R.Camera(eye=(0, 0, 3), target=(0, 0, 0), up=(0, 1, 0), orthographic=True, ortho_height=0)]
+    for camera in bad:
+        with pytest.raises(meshsmith.InputError, match="camera"):
+            R.render(V, F, size=(40, 30), camera=camera)

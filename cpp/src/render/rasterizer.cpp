@@ -50,6 +50,12 @@ class SrgbEncoder {
   std::array<std::uint8_t, kSize> table_{};
 };
 
+/// floor(value) clamped to [low, high] before the conversion (screen coordinates of triangles
+/// near the camera can be far outside the int range).
+int pixel_index(double value, int low, int high) {
+  return static_cast<int>(std::clamp(std::floor(value), static_cast<double>(low), static_cast<double>(high)));
+}
+
 // ---- geometry -------------------------------------------------------------------------------
 
 /// Angle-weighted vertex normals (Thürmer & Wüthrich 1998); zero for vertices of no proper face.
@@ -444,8 +450,8 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
     }
     if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
-    const int first = std::max(0, static_cast<int>(std::floor(y_low)) / kStripRows);
-    const int last = std::min(strips - 1, static_cast<int>(std::floor(std::min(y_high, double(height)))) / kStripRows);
+    const int first = pixel_index(y_low, 0, height - 1) / kStripRows;
+    const int last = pixel_index(y_high, 0, height - 1) / kStripRows;
     face_strips[f] = {first, last};
     for (int s = first; s <= last; ++s) ++strip_start[s + 1];
   }
@@ -474,10 +480,10 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
           y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
         }
         // Sample (x, y) sits at (x + 0.5, y + 0.5).
-        const int x0 = std::max(0, static_cast<int>(std::ceil(x_low - 0.5)));
-        const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high - 0.5)));
-        const int y0 = std::max(row_begin, static_cast<int>(std::ceil(y_low - 0.5)));
-        const int y1 = std::min(row_end - 1, static_cast<int>(std::floor(y_high - 0.5)));
+        const int x0 = pixel_index(std::ceil(x_low - 0.5), 0, width - 1);
+        const int x1 = pixel_index(std::floor(x_high - 0.5), -1, width - 1);
+        const int y0 = pixel_index(std::ceil(y_low - 0.5), row_begin, row_end - 1);
+        const int y1 = pixel_index(std::floor(y_high - 0.5), row_begin - 1, row_end - 1);
         if (x0 > x1 || y0 > y1) continue;
         const double inverse_area = 1.0 / triangle.area2;
         const double d0 = triangle.vertex[0]->depth, d1 = triangle.vertex[1]->depth,
