@@ -506,3 +506,42 @@ def test_degenerate_cameras_are_rejected(sphere):
     for camera in bad:
         with pytest.raises(meshsmith.InputError, match="camera"):
             R.render(V, F, size=(40, 30), camera=camera)
+
+
+@pytest.mark.parametrize("view, axis, sign, up", [
+    ("front", 2, +1, "y"), ("back", 2, -1, "y"), ("right", 0, +1, "y"), ("left", 0, -1, "y"),
+    ("top", 1, +1, "y"), ("bottom", 1, -1, "y"),
+    ("front", 1, -1, "z"), ("right", 0, +1, "z"), ("top", 2, +1, "z"),
+])
+def test_named_views_look_from_the_documented_side(sphere, view, axis, sign, up):
+    V, F = sphere
+    # Colour by the coordinate along the axis the view should look from: the nearest point of
+    # the sphere (the image centre) must take the colormap's top colour.
+    image = R.render(V, F, size=(120, 90), view=view, up=up, scalar=sign * V[:, axis],
+                     scalar_range=(-1, 1), lighting=False, colorbar=False)
+    top_colour = R.colormap("viridis", 2)[-1] * 255
+    assert np.abs(image[45, 60].astype(float) - top_colour).max() < 12
+
+
+def test_silhouette_bounding_box_matches_an_independent_projection():
+    V, F = icosphere(3)
+    V = V * np.array([1.5, 0.7, 1.0]) + 0.2 * np.sin(3 * V[:, [1, 2, 0]])  # a lumpy blob
+    width, height = 320, 240
+    camera = R.frame_camera(V, (30, 20), size=(width, height))
+    image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
+                     supersample=4)
+    forward = np.subtract(camera.target, camera.eye)
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, camera.up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    relative = V - np.asarray(camera.eye)
+    depth = relative @ forward
+    focal = 0.5 * height / math.tan(math.radians(camera.fov_y_deg) / 2)
+    x = width / 2 + focal * (relative @ right) / depth
+    y = height / 2 - focal * (relative @ up) / depth
+    rows, columns = np.nonzero(image[..., 3] >= 128)  # pixels at least half covered
+    assert columns.min() == pytest.approx(x.min(), abs=1.5)
+    assert columns.max() + 1 == pytest.approx(x.max(), abs=1.5)
+    assert rows.min() == pytest.approx(y.min(), abs=1.5)
+    assert rows.max() + 1 == pytest.approx(y.max(), abs=1.5)
