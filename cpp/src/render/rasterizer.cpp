@@ -61,25 +61,37 @@ int pixel_index(double value, int low, int high) {
 /// Angle-weighted vertex normals (Thürmer & Wüthrich 1998); zero for vertices of no proper face.
 /// Private to the renderer until the geometry chapter provides vertex normals.
 VertexMatrix angle_weighted_vertex_normals(const VertexRef& V, const FaceRef& F) {
-  VertexMatrix normals = VertexMatrix::Zero(V.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const std::array<int, 3> corner{F(f, 0), F(f, 1), F(f, 2)};
-    const Eigen::Vector3d p0 = V.row(corner[0]), p1 = V.row(corner[1]), p2 = V.row(corner[2]);
-    const Eigen::Vector3d face_normal = (p1 - p0).cross(p2 - p0);
-    const double length = face_normal.norm();
-    if (!(length > 0.0)) continue;
-    const Eigen::Vector3d unit = face_normal / length;
-    const std::array<Eigen::Vector3d, 3> p{p0, p1, p2};
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-      normals.row(corner[k]) += angle * unit.transpose();
+  // Per face, in parallel: the unit normal times each corner's angle. Then a serial sum in
+  // face order, so the result does not depend on the thread count.
+  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corner_normals(F.rows(), 9);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 8192),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const std::array<Eigen::Vector3d, 3> p{V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(),
+                                             V.row(F(f, 2)).transpose()};
+      const Eigen::Vector3d face_normal = (p[1] - p[0]).cross(p[2] - p[0]);
+      const double twice_area = face_normal.norm();
+      for (int k = 0; k < 3; ++k) {
+        if (!(twice_area > 0.0)) {
+          corner_normals.block<1, 3>(f, 3 * k).setZero();
+          continue;
+        }
+        const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+        const double angle = std::atan2(twice_area, a.dot(b));  // |a x b| is the same at every corner
+        corner_normals.block<1, 3>(f, 3 * k) = (angle / twice_area) * face_normal.transpose();
+      }
     }
-  }
-  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    const double length = normals.row(v).norm();
-    if (length > 0.0) normals.row(v) /= length;
-  }
+  });
+  VertexMatrix normals = VertexMatrix::Zero(V.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) normals.row(F(f, k)) += corner_normals.block<1, 3>(f, 3 * k);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, V.rows(), 8192),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index v = range.begin(); v != range.end(); ++v) {
+      const double length = normals.row(v).norm();
+      if (length > 0.0) normals.row(v) /= length;
+    }
+  });
   return normals;
 }
 
