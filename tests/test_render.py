@@ -545,3 +545,15 @@ def test_silhouette_bounding_box_matches_an_independent_projection():
     assert columns.max() + 1 == pytest.approx(x.max(), abs=1.5)
     assert rows.min() == pytest.approx(y.min(), abs=1.5)
     assert rows.max() + 1 == pytest.approx(y.max(), abs=1.5)
+
+
+def test_thicker_wireframe_lines_cover_more_pixels():
+    V, F = icosphere(2)
+    thin = R.render(V, F, size=(300, 300), wireframe=True, wireframe_width=1.0)
+    thick = R.render(V, F, size=(300, 300), wireframe=True, wireframe_width=3.0)
+    dark = lambda image: (luminance(image) < 80).sum()
+    assert dark(thick) > 2 * dark(thin)
+    with pytest.raises(meshsmith.InputError, match="wireframe_width"):
+        R.render(V, F, size=(60, 60), wireframe=True, wireframe_width=0.0)
+    with pytest.raises(meshsmith.InputError, match="supersample"):
+        R.render(V, F, size=(60, 60), supersample=2.5)

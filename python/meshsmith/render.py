@@ -120,6 +120,10 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
     symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
     Raises InputError for a wrong length or a NaN/Inf (naming the first one).
     """
+    return _robust_range(scalar, vertex_count, cmap)
+
+
+def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
     diverging = _core.colormap_is_diverging(cmap)
     return tuple(_core.scalar_range(scalar, int(vertex_count), diverging))
 
@@ -127,7 +131,8 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
 def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
            camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
            scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
-           wireframe=False, uv=None, checker_size=None, flat=False, lighting=True,
+           wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
+           lighting=True,
            color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
            supersample=3) -> np.ndarray:
     """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
@@ -152,6 +157,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         values of the range.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
+        wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
     uv: texture coordinates shown as a checkerboard, (n, 2) per vertex or (m, 3, 2) per
         corner. checker_size: side of a checker square in UV units (default: an eighth of the
         larger UV extent).
@@ -183,6 +189,8 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
         raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
+    if not isinstance(supersample, (int, np.integer)) or isinstance(supersample, bool):
+        raise InputError(f"supersample must be an integer from 1 to 4, got {supersample!r}")
     gradient, transparent = _background(background)
     n_vertices, n_faces = _validated_counts(V, F)
 
@@ -190,7 +198,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
-            low, high = globals()["scalar_range"](scalar, n_vertices, cmap)
+            low, high = _robust_range(scalar, n_vertices, cmap)
         else:
             low, high = _check_range(scalar_range)
         if colorbar is None:
@@ -221,7 +229,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
         width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
-        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=1.0,
+        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
         wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,
         scalar=scalar, scalar_min=0.0 if low is None else float(low),
