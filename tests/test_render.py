@@ -557,3 +557,16 @@ def test_thicker_wireframe_lines_cover_more_pixels():
         R.render(V, F, size=(60, 60), wireframe=True, wireframe_width=0.0)
     with pytest.raises(meshsmith.InputError, match="supersample"):
         R.render(V, F, size=(60, 60), supersample=2.5)
+
+
+def test_no_cracks_between_adjacent_triangles():
+    V, F = icosphere(5)  # 20480 small triangles sharing edges
+    width, height = 300, 300
+    camera = R.frame_camera(V, (17.0, 11.0), size=(width, height), orthographic=True)
+    for supersample in (1, 2):
+        image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
+                         supersample=supersample)
+        ys, xs = np.mgrid[0:height, 0:width] + 0.5
+        radius_px = height / camera.ortho_height
+        inside = (xs - width / 2) ** 2 + (ys - height / 2) ** 2 < (radius_px - 2) ** 2
+        assert np.all(image[..., 3][inside] == 255)
