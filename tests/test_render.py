@@ -199,6 +199,11 @@ def test_default_scalar_range_is_robust_and_symmetric_for_diverging_maps():
     assert high == pytest.approx(np.percentile(values, 98))
     low, high = R.scalar_range(values, len(values), "coolwarm")
     assert low == pytest.approx(-high) and high == pytest.approx(np.percentile(values, 98))
+    valence = np.full(1000, 6.0)
+    valence[:12] = 5.0  # percentiles coincide: the extremes are used
+    assert R.scalar_range(valence, 1000, "coolwarm") == (5.0, 6.0)
+    assert R.scalar_range(np.full(10, 4.0), 10, "viridis") == pytest.approx((3.6, 4.4))
+    assert R.scalar_range(np.zeros(10), 10, "coolwarm") == (-1.0, 1.0)
     positive = np.linspace(3.0, 9.0, 50)  # no sign change: no symmetrisation
     assert R.scalar_range(positive, 50, "coolwarm") == pytest.approx(
         (np.percentile(positive, 2), np.percentile(positive, 98)))

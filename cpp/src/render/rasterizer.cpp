@@ -402,6 +402,14 @@ std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
     return low + (position - below) * (high - low);
   };
   double low = percentile(lower_percentile), high = percentile(upper_percentile);
+  if (!(high > low)) {  // the percentiles coincide (e.g. valences, mostly 6): use the extremes
+    low = *std::min_element(sorted.begin(), sorted.end());
+    high = *std::max_element(sorted.begin(), sorted.end());
+  }
+  if (!(high > low)) {  // a constant field: a small range around it, shown in the middle colour
+    const double half = low == 0.0 ? 1.0 : 0.1 * std::abs(low);
+    low -= half, high += half;
+  }
   if (symmetric_about_zero && low < 0.0 && high > 0.0) {
     const double m = std::max(-low, high);
     low = -m, high = m;

@@ -76,7 +76,9 @@ void validate_vertex_scalar(const Eigen::VectorXd& values, Eigen::Index vertex_c
 /// The range that colours a scalar field well: the lower and upper percentiles (numpy's default
 /// linear interpolation between order statistics), so a few outliers do not wash out the
 /// colours. With `symmetric_about_zero` and a range that contains 0, the range becomes [-m, m],
-/// m = max(|low|, |high|), so zero sits at the centre of a diverging colormap.
+/// m = max(|low|, |high|), so zero sits at the centre of a diverging colormap. When the
+/// percentiles coincide the range is [min, max]; a constant field c gets [c - d, c + d] with
+/// d = 0.1|c| (1 if c = 0), so the range is never empty.
 /// \pre values is non-empty and finite (validate_vertex_scalar).
 /// \throw InputError for empty values or percentiles outside 0 <= lower <= upper <= 100.
 std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
