@@ -95,11 +95,15 @@ VertexMatrix angle_weighted_vertex_normals(const VertexRef& V, const FaceRef& F)
   return normals;
 }
 
+/// A projected vertex, kept to 16 bytes because triangles read them in random order (the
+/// edge functions are evaluated in double from these values, identically for both triangles of
+/// an edge, so single precision costs no watertightness).
 struct ScreenVertex {
-  double x = 0.0, y = 0.0;  // supersampled pixel coordinates, y down
-  double depth = 0.0;       // larger is closer: 1/z (perspective) or -z (orthographic)
-  double inverse_z = 1.0;   // 1/z for perspective-correct interpolation (1 when orthographic)
-  bool drawable = false;    // in front of the near plane
+  float x = 0.0f, y = 0.0f;  // supersampled pixel coordinates, y down
+  float depth = 0.0f;        // larger is closer: 1/z (perspective) or -z (orthographic)
+  float inverse_z = 0.0f;    // 1/z for perspective-correct interpolation (1 when orthographic);
+                             // 0 for a vertex behind the near plane, which is not drawable
+  bool drawable() const { return inverse_z > 0.0f; }
 };
 
 /// The camera frame: right, up, forward (unit, orthogonal).
@@ -160,8 +164,14 @@ struct TriangleSetup {
     area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   }
   bool front() const { return area2 < 0.0; }
+  /// Screen bounding box {x_low, x_high, y_low, y_high}.
+  std::array<double, 4> bounds() const {
+    const ScreenVertex &a = *vertex[0], &b = *vertex[1], &c = *vertex[2];
+    return {std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
+            std::max({a.y, b.y, c.y})};
+  }
   bool drawable() const {
-    return vertex[0]->drawable && vertex[1]->drawable && vertex[2]->drawable && area2 != 0.0 &&
+    return vertex[0]->drawable() && vertex[1]->drawable() && vertex[2]->drawable() && area2 != 0.0 &&
            std::isfinite(area2);
   }
 };
@@ -448,10 +458,14 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       const double x = p.dot(frame.right), y = p.dot(frame.up), z = p.dot(frame.forward);
       ScreenVertex& s = screen[i];
       if (camera.orthographic) {
-        s = {0.5 * width + focal * x, 0.5 * height - focal * y, -z, 1.0, true};
+        s = {static_cast<float>(0.5 * width + focal * x), static_cast<float>(0.5 * height - focal * y),
+             static_cast<float>(-z), 1.0f};
       } else if (z > near) {
         const double w = 1.0 / z;
-        s = {0.5 * width + focal * x * w, 0.5 * height - focal * y * w, w, w, true};
+        s = {static_cast<float>(0.5 * width + focal * x * w),
+             static_cast<float>(0.5 * height - focal * y * w), static_cast<float>(w),
+             static_cast<float>(w)};
+        if (!std::isfinite(s.x) || !std::isfinite(s.y) || !(s.inverse_z > 0.0f)) s = ScreenVertex{};
       }
     }
   });
@@ -459,22 +473,25 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
   // Bin the triangles into strips of rows (in face order, so strips draw deterministically).
   const int strips = (height + kStripRows - 1) / kStripRows;
   std::vector<std::int64_t> strip_start(strips + 1, 0);
+  // The strips each face overlaps ({0, -1}: none), in parallel; faces that are not drawable,
+  // off screen, or so small that their bounding box holds no sample centre get none.
   std::vector<std::array<int, 2>> face_strips(F.rows(), {0, -1});
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const TriangleSetup triangle(screen, F, static_cast<int>(f));
-    if (!triangle.drawable()) continue;
-    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
-    double y_low = x_low, y_high = -x_low;
-    for (const ScreenVertex* v : triangle.vertex) {
-      x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
-      y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 16384),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const TriangleSetup triangle(screen, F, static_cast<int>(f));
+      if (!triangle.drawable()) continue;
+      const auto [x_low, x_high, y_low, y_high] = triangle.bounds();
+      if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
+      if (std::ceil(x_low - 0.5) > std::floor(x_high - 0.5) ||
+          std::ceil(y_low - 0.5) > std::floor(y_high - 0.5))
+        continue;  // no sample centre inside the bounding box
+      face_strips[f] = {pixel_index(y_low, 0, height - 1) / kStripRows,
+                        pixel_index(y_high, 0, height - 1) / kStripRows};
     }
-    if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
-    const int first = pixel_index(y_low, 0, height - 1) / kStripRows;
-    const int last = pixel_index(y_high, 0, height - 1) / kStripRows;
-    face_strips[f] = {first, last};
-    for (int s = first; s <= last; ++s) ++strip_start[s + 1];
-  }
+  });
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int s = face_strips[f][0]; s <= face_strips[f][1]; ++s) ++strip_start[s + 1];
   for (int s = 0; s < strips; ++s) strip_start[s + 1] += strip_start[s];
   std::vector<int> binned(strip_start[strips]);
   {
@@ -493,12 +510,7 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       for (std::int64_t b = strip_start[s]; b < strip_start[s + 1]; ++b) {
         const int f = binned[b];
         const TriangleSetup triangle(screen, F, f);
-        double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
-        double y_low = x_low, y_high = -x_low;
-        for (const ScreenVertex* v : triangle.vertex) {
-          x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
-          y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
-        }
+        const auto [x_low, x_high, y_low, y_high] = triangle.bounds();
         // Sample (x, y) sits at (x + 0.5, y + 0.5).
         const int x0 = pixel_index(std::ceil(x_low - 0.5), 0, width - 1);
         const int x1 = pixel_index(std::floor(x_high - 0.5), -1, width - 1);
