@@ -575,3 +575,31 @@ def test_no_cracks_between_adjacent_triangles():
         radius_px = height / camera.ortho_height
         inside = (xs - width / 2) ** 2 + (ys - height / 2) ** 2 < (radius_px - 2) ** 2
         assert np.all(image[..., 3][inside] == 255)
+
+
+def cube():
+    V = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    return V, F
+
+
+def test_smooth_shading_keeps_sharp_edges_crisp_below_the_crease_angle():
+    V, F = cube()
+    assert np.all(np.einsum("ij,ij->i", np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]),
+                            V[F].mean(axis=1)) > 0)  # outward, counter-clockwise faces
+    kwargs = dict(size=(200, 200), background="white", supersample=1)
+    crisp = R.render(V, F, **kwargs)                      # 90-degree edges > 60: split
+    rounded = R.render(V, F, crease_angle=180, **kwargs)  # one normal per vertex
+    flat = R.render(V, F, flat=True, **kwargs)
+    distinct = lambda image: len(np.unique(image.reshape(-1, 3), axis=0))
+    assert np.abs(crisp.astype(int) - flat).max() <= 1  # planar cube faces: crisp equals flat
+    assert distinct(rounded) > 20 * distinct(crisp)
+    with pytest.raises(meshsmith.InputError, match="crease_angle"):
+        R.render(V, F, crease_angle=-5, size=(40, 40))
+
+
+def test_crease_angle_leaves_smooth_surfaces_smooth():
+    V, F = icosphere(3)  # neighbouring faces differ by ~ 7 degrees
+    assert np.array_equal(R.render(V, F, size=(160, 120)),
+                          R.render(V, F, size=(160, 120), crease_angle=180))

@@ -86,7 +86,7 @@ void bind_render(py::module_& m) {
                           std::array<double, 3> eye, std::array<double, 3> target,
                           std::array<double, 3> up, double fov_y_deg, bool orthographic,
                           double ortho_height, int width, int height, int supersample,
-                          bool smooth_shading, bool lighting, bool wireframe,
+                          bool smooth_shading, double crease_angle_deg, bool lighting, bool wireframe,
                           double wireframe_width, std::array<double, 3> front_color,
                           std::array<double, 3> back_color, std::array<double, 3> wireframe_color,
                           std::array<double, 3> background_top,
@@ -108,6 +108,7 @@ void bind_render(py::module_& m) {
     options.height = height;
     options.supersample = supersample;
     options.smooth_shading = smooth_shading;
+    options.crease_angle_deg = crease_angle_deg;
     options.lighting = lighting;
     options.wireframe = wireframe;
     options.wireframe_width = wireframe_width;
@@ -149,7 +150,7 @@ void bind_render(py::module_& m) {
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("eye"), py::arg("target"), py::arg("up"),
      py::arg("fov_y_deg"), py::arg("orthographic"), py::arg("ortho_height"), py::arg("width"),
-     py::arg("height"), py::arg("supersample"), py::arg("smooth_shading"), py::arg("lighting"),
+     py::arg("height"), py::arg("supersample"), py::arg("smooth_shading"), py::arg("crease_angle_deg"), py::arg("lighting"),
      py::arg("wireframe"), py::arg("wireframe_width"), py::arg("front_color"),
      py::arg("back_color"), py::arg("wireframe_color"), py::arg("background_top"),
      py::arg("background_bottom"), py::arg("transparent_background"), py::arg("scalar"),

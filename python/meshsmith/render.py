@@ -132,7 +132,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
            camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
            scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
            wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
-           lighting=True,
+           crease_angle=60.0, lighting=True,
            color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
            supersample=3) -> np.ndarray:
     """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
@@ -162,6 +162,8 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         corner. checker_size: side of a checker square in UV units (default: an eighth of the
         larger UV extent).
     flat: one normal per face (faceted look) instead of smooth per-vertex normals.
+    crease_angle: smooth shading keeps edges whose dihedral angle exceeds this (degrees)
+        crisp, as on CAD parts; 180 smooths everything.
     lighting: False draws unlit colours (exact colormap colours).
     color, back_color: sRGB triples in [0, 1] of the front and back faces' material.
     title: text drawn at the top of the picture.
@@ -229,6 +231,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
         width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
+        crease_angle_deg=float(crease_angle),
         lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
         wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,

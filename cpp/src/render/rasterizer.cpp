@@ -58,38 +58,69 @@ int pixel_index(double value, int low, int high) {
 
 // ---- geometry -------------------------------------------------------------------------------
 
-/// Angle-weighted vertex normals (Thürmer & Wüthrich 1998); zero for vertices of no proper face.
-/// Private to the renderer until the geometry chapter provides vertex normals.
-VertexMatrix angle_weighted_vertex_normals(const VertexRef& V, const FaceRef& F) {
-  // Per face, in parallel: the unit normal times each corner's angle. Then a serial sum in
-  // face order, so the result does not depend on the thread count.
-  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corner_normals(F.rows(), 9);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 8192),
+/// #F·3 by 3 (row 3f+k: corner k of face f) unit normals for smooth shading: at each corner the
+/// angle-weighted average (Thürmer & Wüthrich 1998) of the normals of the faces around the
+/// corner's vertex that make a dihedral angle of at most `crease_angle_deg` with the corner's
+/// face, so sharp edges stay crisp; with 180 degrees these are the plain angle-weighted vertex
+/// normals. Zero rows for degenerate faces (the shader then uses the face normal). Private to
+/// the renderer until the geometry chapter provides vertex normals.
+using CornerNormals = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
+CornerNormals crease_aware_corner_normals(const VertexRef& V, const FaceRef& F,
+                                          double crease_angle_deg) {
+  const Eigen::Index faces = F.rows();
+  // Unit face normals and corner angles, per face in parallel.
+  VertexMatrix face_normal(faces, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> corner_angle(faces, 3);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, faces, 8192),
                     [&](const tbb::blocked_range<Eigen::Index>& range) {
     for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
       const std::array<Eigen::Vector3d, 3> p{V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(),
                                              V.row(F(f, 2)).transpose()};
-      const Eigen::Vector3d face_normal = (p[1] - p[0]).cross(p[2] - p[0]);
-      const double twice_area = face_normal.norm();
+      const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]);
+      const double twice_area = normal.norm();
+      if (!(twice_area > 0.0)) {
+        face_normal.row(f).setZero();
+        corner_angle.row(f).setZero();
+        continue;
+      }
+      face_normal.row(f) = normal.transpose() / twice_area;
       for (int k = 0; k < 3; ++k) {
-        if (!(twice_area > 0.0)) {
-          corner_normals.block<1, 3>(f, 3 * k).setZero();
-          continue;
-        }
         const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
-        const double angle = std::atan2(twice_area, a.dot(b));  // |a x b| is the same at every corner
-        corner_normals.block<1, 3>(f, 3 * k) = (angle / twice_area) * face_normal.transpose();
+        corner_angle(f, k) = std::atan2(twice_area, a.dot(b));  // |a x b| is 2A at every corner
       }
     }
   });
-  VertexMatrix normals = VertexMatrix::Zero(V.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) normals.row(F(f, k)) += corner_normals.block<1, 3>(f, 3 * k);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, V.rows(), 8192),
+  // The corners around each vertex, in face order (so sums are deterministic).
+  std::vector<std::int64_t> start(V.rows() + 1, 0);
+  for (Eigen::Index f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) ++start[F(f, k) + 1];
+  for (Eigen::Index v = 0; v < V.rows(); ++v) start[v + 1] += start[v];
+  std::vector<std::int64_t> corners(start.back());
+  {
+    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
+    for (Eigen::Index f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k) corners[fill[F(f, k)]++] = 3 * f + k;
+  }
+  const double cos_crease = crease_angle_deg >= 180.0 ? -2.0 : std::cos(crease_angle_deg * kPi / 180.0);
+  CornerNormals normals(3 * faces, 3);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, faces, 8192),
                     [&](const tbb::blocked_range<Eigen::Index>& range) {
-    for (Eigen::Index v = range.begin(); v != range.end(); ++v) {
-      const double length = normals.row(v).norm();
-      if (length > 0.0) normals.row(v) /= length;
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const Eigen::Vector3d own = face_normal.row(f).transpose();
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        const int v = F(f, k);
+        for (std::int64_t c = start[v]; c < start[v + 1]; ++c) {
+          const std::int64_t g = corners[c] / 3;
+          const Eigen::Vector3d other = face_normal.row(g).transpose();
+          if (other.dot(own) >= cos_crease) sum += corner_angle(g, corners[c] % 3) * other;
+        }
+        const double length = sum.norm();
+        if (length > 0.0)
+          normals.row(3 * f + k) = (sum / length).cast<float>().transpose();
+        else
+          normals.row(3 * f + k).setZero();
+      }
     }
   });
   return normals;
@@ -188,7 +219,8 @@ class Shader {
   Shader(const VertexRef& V, const FaceRef& F, const CameraFrame& frame,
          const RenderOptions& options)
       : V_(V), F_(F), frame_(frame), options_(options) {
-    if (options.smooth_shading) vertex_normals_ = angle_weighted_vertex_normals(V, F);
+    if (options.smooth_shading)
+      corner_normals_ = crease_aware_corner_normals(V, F, options.crease_angle_deg);
     front_ = srgb_to_linear(options.front_color);
     back_ = srgb_to_linear(options.back_color);
     wire_ = srgb_to_linear(options.wireframe_color);
@@ -244,7 +276,8 @@ class Shader {
     const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
     if (options_.smooth_shading)
-      for (int k = 0; k < 3; ++k) normal += w.weight[k] * vertex_normals_.row(index[k]).transpose();
+      for (int k = 0; k < 3; ++k)
+        normal += w.weight[k] * corner_normals_.row(3 * static_cast<Eigen::Index>(face) + k).transpose().cast<double>();
     if (!(normal.squaredNorm() > 1e-12)) {
       const Eigen::Vector3d p0 = V_.row(index[0]), p1 = V_.row(index[1]), p2 = V_.row(index[2]);
       normal = (p1 - p0).cross(p2 - p0);
@@ -323,7 +356,7 @@ class Shader {
   const FaceRef& F_;
   CameraFrame frame_;
   const RenderOptions& options_;
-  VertexMatrix vertex_normals_;
+  CornerNormals corner_normals_;
   Eigen::Vector3d front_, back_, wire_, checker_light_, checker_dark_, halfway_;
   std::array<Eigen::Vector3d, kColormapSteps> colormap_;
   std::array<Light, 3> lights_;
@@ -348,6 +381,8 @@ void validate_options(const VertexRef& V, const FaceRef& F, const RenderOptions&
     throw InputError("render: " + std::to_string(samples) +
                      " samples (width*height*supersample^2) exceed the limit of " +
                      std::to_string(kMaxSamples) + "; lower the size or the supersampling");
+  if (!(options.crease_angle_deg >= 0.0) || !std::isfinite(options.crease_angle_deg))
+    throw InputError("render: crease_angle_deg must be >= 0 (180 or more: smooth everywhere)");
   if (!(options.wireframe_width > 0.0) || !std::isfinite(options.wireframe_width))
     throw InputError("render: wireframe_width must be > 0");
   if (!(options.wireframe_opacity >= 0.0 && options.wireframe_opacity <= 1.0))

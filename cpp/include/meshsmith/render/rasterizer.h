@@ -32,6 +32,9 @@ struct RenderOptions {
   int height = 600;                ///< output image height in pixels, >= 1
   int supersample = 3;             ///< samples per pixel along each axis, 1..4
   bool smooth_shading = true;      ///< interpolate vertex normals (false: one normal per face)
+  /// Smooth shading keeps edges whose dihedral angle exceeds this crisp (per-corner normals
+  /// average only the faces around the vertex within this angle); >= 180: smooth everywhere.
+  double crease_angle_deg = 60.0;
   bool lighting = true;            ///< false: unlit colours (albedo only), e.g. for UV layouts
   Eigen::Vector3d front_color{0.60, 0.68, 0.80};  ///< material of front faces (soft gray-blue)
   Eigen::Vector3d back_color{0.88, 0.56, 0.42};   ///< material of back faces (warm, shows holes)
@@ -89,13 +92,13 @@ std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
 /// Renders the triangle mesh (V #V×3, F #F×3) seen through `camera`.
 /// Triangles with a vertex behind the camera's near plane (closer than 1e-6 of the eye-target
 /// distance) are not drawn; auto-framed cameras (frame_camera) never produce such triangles.
-/// Vertex normals are angle-weighted averages of the face normals.
+/// Smooth-shading normals are angle-weighted averages of face normals, split at creases.
 /// \pre validate_mesh(V, F) passes.
 /// \throw InputError for an invalid mesh, a size outside [1, 16384] or more than 2^25 samples,
 ///        supersample outside 1..4, a degenerate camera (eye == target, up parallel to the view,
 ///        fov outside (0, 180), ortho_height <= 0), a scalar of the wrong length or with a
 ///        NaN/Inf, scalar_min > scalar_max, UVs of the wrong size or non-finite, checker_size < 0,
-///        wireframe_width <= 0. Messages name the offending element.
+///        wireframe_width <= 0, crease_angle_deg < 0. Messages name the offending element.
 RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera,
                       const RenderOptions& options = {});
 
