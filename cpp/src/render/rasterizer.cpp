@@ -102,24 +102,37 @@ CornerNormals crease_aware_corner_normals(const VertexRef& V, const FaceRef& F,
       for (int k = 0; k < 3; ++k) corners[fill[F(f, k)]++] = 3 * f + k;
   }
   const double cos_crease = crease_angle_deg >= 180.0 ? -2.0 : std::cos(crease_angle_deg * kPi / 180.0);
+  // Per vertex, in parallel: each corner around it sums the faces around it within the crease
+  // angle (each corner belongs to exactly one vertex, so the writes never collide).
   CornerNormals normals(3 * faces, 3);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, faces, 8192),
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, V.rows(), 4096),
                     [&](const tbb::blocked_range<Eigen::Index>& range) {
-    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
-      const Eigen::Vector3d own = face_normal.row(f).transpose();
-      for (int k = 0; k < 3; ++k) {
+    std::vector<Eigen::Vector3d> around;  // angle-weighted normals of the faces around v
+    std::vector<Eigen::Vector3d> unit;    // their unit normals
+    for (Eigen::Index v = range.begin(); v != range.end(); ++v) {
+      const std::int64_t first = start[v], count = start[v + 1] - first;
+      around.resize(count);
+      unit.resize(count);
+      Eigen::Vector3d total = Eigen::Vector3d::Zero();
+      for (std::int64_t i = 0; i < count; ++i) {
+        const std::int64_t corner = corners[first + i];
+        unit[i] = face_normal.row(corner / 3).transpose();
+        around[i] = corner_angle(corner / 3, corner % 3) * unit[i];
+        total += around[i];
+      }
+      for (std::int64_t i = 0; i < count; ++i) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        const int v = F(f, k);
-        for (std::int64_t c = start[v]; c < start[v + 1]; ++c) {
-          const std::int64_t g = corners[c] / 3;
-          const Eigen::Vector3d other = face_normal.row(g).transpose();
-          if (other.dot(own) >= cos_crease) sum += corner_angle(g, corners[c] % 3) * other;
+        if (cos_crease < -1.0) {
+          sum = total;
+        } else {
+          for (std::int64_t j = 0; j < count; ++j)
+            if (unit[j].dot(unit[i]) >= cos_crease) sum += around[j];
         }
         const double length = sum.norm();
-        if (length > 0.0)
-          normals.row(3 * f + k) = (sum / length).cast<float>().transpose();
+        if (length > 0.0 && unit[i].squaredNorm() > 0.0)
+          normals.row(corners[first + i]) = (sum / length).cast<float>().transpose();
         else
-          normals.row(3 * f + k).setZero();
+          normals.row(corners[first + i]).setZero();
       }
     }
   });
