@@ -1,7 +1,7 @@
 #pragma once
 /// \file rasterizer.h
 /// A software z-buffer rasterizer that draws shaded pictures of triangle meshes: smooth
-/// (per-vertex normal) or flat shading with a key, a fill and a rim light over a hemisphere
+/// (interpolated angle-weighted normals, split at creases) or flat shading with a key, a fill and a rim light over a hemisphere
 /// ambient term, back faces in their own tint so holes show, an optional per-vertex scalar
 /// field through a colormap, an optional checkerboard through texture coordinates and an
 /// optional wireframe drawn in the fragment stage from the distance to the triangle's edges.
@@ -9,8 +9,9 @@
 ///
 /// It works in two passes over a supersampled image: a visibility pass that bins triangles into
 /// horizontal strips and rasterizes each strip (in parallel, each strip in triangle order, so
-/// the result does not depend on the number of threads), then a shading pass that evaluates each
-/// visible sample once with perspective-correct interpolation of normals, scalars and UVs.
+/// the result does not depend on the number of threads), then a shading pass that lights each
+/// triangle once per pixel (as multisampling does) and evaluates colour and wireframe per sample,
+/// with perspective-correct interpolation of normals, scalars and UVs.
 #include <meshsmith/core/types.h>
 #include <meshsmith/render/camera.h>
 #include <meshsmith/render/colormap.h>
