@@ -486,7 +486,7 @@ def test_default_colour_bar_is_left_out_of_tiny_pictures_but_not_when_asked(sphe
 
 def test_uv_layout_rejects_uvs_that_are_not_two_columns():
     V, F = grid(2)
-    with pytest.raises(meshsmith.InputError, match=r"expected \(n, 2\)"):
+    with pytest.raises(meshsmith.InputError, match=r"UV has shape \(9, 3\): expected \(n, 2\)"):
         R.render_uv_layout(V, F)
 
 

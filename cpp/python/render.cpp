@@ -179,6 +179,16 @@ void bind_render(py::module_& m) {
      py::arg("lower_percentile") = 2.0, py::arg("upper_percentile") = 98.0,
      "Validated robust (low, high) colouring range of a per-vertex scalar field.");
 
+  m.def("uv_layout_vertices", [](const py::object& UV) {
+    auto coordinates = as_real_matrix(UV, "UV", 2);
+    VertexMatrix V = VertexMatrix::Zero(coordinates.shape(0), 3);
+    for (py::ssize_t i = 0; i < coordinates.shape(0); ++i) {
+      V(i, 0) = coordinates.at(i, 0);
+      V(i, 1) = coordinates.at(i, 1);
+    }
+    return to_numpy(std::move(V));
+  }, py::arg("UV"), "(n, 3) vertices (u, v, 0) of (n, 2) texture coordinates.");
+
   m.def("colormap_names", &render::colormap_names);
   m.def("colormap_is_diverging", [](const std::string& name) {
     return render::colormap_is_diverging(render::colormap_from_name(name));

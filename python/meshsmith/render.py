@@ -282,8 +282,7 @@ def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="vi
     :func:`render`. Returns the (height, width, 3) uint8 picture; writes a PNG if `path` is given.
     Raises InputError for a UV array that is not (n, 2), bad faces, or bad arguments.
     """
-    UV = _core_uv(UV)
-    V = np.column_stack([UV, np.zeros(len(UV))])
+    V = _core.uv_layout_vertices(UV)  # checks UV: (n, 2) real numbers
     return render(V, F, path, size=size, view="front", projection="orthographic",
                   scalar=scalar, cmap=cmap, scalar_range=scalar_range, scalar_label=scalar_label,
                   wireframe=True, lighting=False, color=(0.80, 0.87, 0.96),
@@ -319,14 +318,6 @@ def _validated_counts(V, F) -> tuple[int, int]:
     from ._core import core as _core_checks
     _core_checks.validate_mesh(V, F)
     return len(V), len(F)
-
-
-def _core_uv(UV) -> np.ndarray:
-    array = np.asarray(UV)
-    if array.ndim != 2 or array.shape[1] != 2 or array.dtype.kind not in "fiu":
-        raise InputError(f"UV has shape {array.shape} and dtype {array.dtype}: "
-                         "expected (n, 2) real texture coordinates")
-    return array.astype(np.float64)
 
 
 def _unit_color(value, name) -> tuple[float, float, float]:
