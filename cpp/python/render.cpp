@@ -86,7 +86,7 @@ void bind_render(py::module_& m) {
                           std::array<double, 3> eye, std::array<double, 3> target,
                           std::array<double, 3> up, double fov_y_deg, bool orthographic,
                           double ortho_height, int width, int height, int supersample,
-                          bool smooth_shading, bool lighting, bool wireframe,
+                          bool smooth_shading, double crease_angle_deg, bool lighting, bool wireframe,
                           double wireframe_width, std::array<double, 3> front_color,
                           std::array<double, 3> back_color, std::array<double, 3> wireframe_color,
                           std::array<double, 3> background_top,
@@ -108,6 +108,7 @@ void bind_render(py::module_& m) {
     options.height = height;
     options.supersample = supersample;
     options.smooth_shading = smooth_shading;
+    options.crease_angle_deg = crease_angle_deg;
     options.lighting = lighting;
     options.wireframe = wireframe;
     options.wireframe_width = wireframe_width;
@@ -149,7 +150,7 @@ void bind_render(py::module_& m) {
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("eye"), py::arg("target"), py::arg("up"),
      py::arg("fov_y_deg"), py::arg("orthographic"), py::arg("ortho_height"), py::arg("width"),
-     py::arg("height"), py::arg("supersample"), py::arg("smooth_shading"), py::arg("lighting"),
+     py::arg("height"), py::arg("supersample"), py::arg("smooth_shading"), py::arg("crease_angle_deg"), py::arg("lighting"),
      py::arg("wireframe"), py::arg("wireframe_width"), py::arg("front_color"),
      py::arg("back_color"), py::arg("wireframe_color"), py::arg("background_top"),
      py::arg("background_bottom"), py::arg("transparent_background"), py::arg("scalar"),
@@ -177,6 +178,16 @@ void bind_render(py::module_& m) {
   }, py::arg("scalar"), py::arg("vertex_count"), py::arg("symmetric_about_zero"),
      py::arg("lower_percentile") = 2.0, py::arg("upper_percentile") = 98.0,
      "Validated robust (low, high) colouring range of a per-vertex scalar field.");
+
+  m.def("uv_layout_vertices", [](const py::object& UV) {
+    auto coordinates = as_real_matrix(UV, "UV", 2);
+    VertexMatrix V = VertexMatrix::Zero(coordinates.shape(0), 3);
+    for (py::ssize_t i = 0; i < coordinates.shape(0); ++i) {
+      V(i, 0) = coordinates.at(i, 0);
+      V(i, 1) = coordinates.at(i, 1);
+    }
+    return to_numpy(std::move(V));
+  }, py::arg("UV"), "(n, 3) vertices (u, v, 0) of (n, 2) texture coordinates.");
 
   m.def("colormap_names", &render::colormap_names);
   m.def("colormap_is_diverging", [](const std::string& name) {

@@ -120,6 +120,10 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
     symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
     Raises InputError for a wrong length or a NaN/Inf (naming the first one).
     """
+    return _robust_range(scalar, vertex_count, cmap)
+
+
+def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
     diverging = _core.colormap_is_diverging(cmap)
     return tuple(_core.scalar_range(scalar, int(vertex_count), diverging))
 
@@ -127,7 +131,8 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
 def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
            camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
            scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
-           wireframe=False, uv=None, checker_size=None, flat=False, lighting=True,
+           wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
+           crease_angle=60.0, lighting=True,
            color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
            supersample=3) -> np.ndarray:
     """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
@@ -148,13 +153,17 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
         percentiles, symmetric about 0 for coolwarm when the values change sign.
     scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
-        `scalar` is given); it shows the low, middle and high values of the range.
+        `scalar` is given and the picture is wide enough); it shows the low, middle and high
+        values of the range.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
+        wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
     uv: texture coordinates shown as a checkerboard, (n, 2) per vertex or (m, 3, 2) per
         corner. checker_size: side of a checker square in UV units (default: an eighth of the
         larger UV extent).
     flat: one normal per face (faceted look) instead of smooth per-vertex normals.
+    crease_angle: smooth shading keeps edges whose dihedral angle exceeds this (degrees)
+        crisp, as on CAD parts; 180 smooths everything.
     lighting: False draws unlit colours (exact colormap colours).
     color, back_color: sRGB triples in [0, 1] of the front and back faces' material.
     title: text drawn at the top of the picture.
@@ -182,13 +191,16 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
         raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
+    if not isinstance(supersample, (int, np.integer)) or isinstance(supersample, bool):
+        raise InputError(f"supersample must be an integer from 1 to 4, got {supersample!r}")
     gradient, transparent = _background(background)
     n_vertices, n_faces = _validated_counts(V, F)
 
     low = high = None
+    colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
-            low, high = globals()["scalar_range"](scalar, n_vertices, cmap)
+            low, high = _robust_range(scalar, n_vertices, cmap)
         else:
             low, high = _check_range(scalar_range)
         if colorbar is None:
@@ -206,7 +218,9 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
 
     # Layout: a title band on top, a colour bar strip on the right, panels in the rest.
     title_height = max(22, round(0.065 * total_height)) if title else 0
-    bar_width = max(72, round(0.12 * total_width)) if colorbar else 0
+    bar_width = max(64, round(0.14 * total_width)) if colorbar else 0
+    if colorbar and not colorbar_requested and bar_width > total_width // 3:
+        colorbar, bar_width = False, 0  # the default colour bar is left out of tiny pictures
     grid_width, grid_height = total_width - bar_width, total_height - title_height
     if grid_width < columns or grid_height < rows:
         raise InputError(f"size {size} is too small for the title and the colour bar")
@@ -217,7 +231,8 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
         width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
-        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=1.0,
+        crease_angle_deg=float(crease_angle),
+        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
         wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,
         scalar=scalar, scalar_min=0.0 if low is None else float(low),
@@ -267,8 +282,7 @@ def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="vi
     :func:`render`. Returns the (height, width, 3) uint8 picture; writes a PNG if `path` is given.
     Raises InputError for a UV array that is not (n, 2), bad faces, or bad arguments.
     """
-    UV = _core_uv(UV)
-    V = np.column_stack([UV, np.zeros(len(UV))])
+    V = _core.uv_layout_vertices(UV)  # checks UV: (n, 2) real numbers
     return render(V, F, path, size=size, view="front", projection="orthographic",
                   scalar=scalar, cmap=cmap, scalar_range=scalar_range, scalar_label=scalar_label,
                   wireframe=True, lighting=False, color=(0.80, 0.87, 0.96),
@@ -304,14 +318,6 @@ def _validated_counts(V, F) -> tuple[int, int]:
     from ._core import core as _core_checks
     _core_checks.validate_mesh(V, F)
     return len(V), len(F)
-
-
-def _core_uv(UV) -> np.ndarray:
-    array = np.asarray(UV)
-    if array.ndim != 2 or array.shape[1] != 2 or array.dtype.kind not in "fiu":
-        raise InputError(f"UV has shape {array.shape} and dtype {array.dtype}: "
-                         "expected (n, 2) real texture coordinates")
-    return array.astype(np.float64)
 
 
 def _unit_color(value, name) -> tuple[float, float, float]:
@@ -409,15 +415,19 @@ def _font(size: int):
         return ImageFont.load_default()
 
 
-def _format_tick(value: float, low: float, high: float) -> str:
-    span = abs(high - low)
-    if value == 0.0:
-        return "0"
-    magnitude = max(abs(low), abs(high), 1e-300)
+def _format_ticks(values: Sequence[float]) -> list[str]:
+    """Labels for the colour bar's ticks, with the precision their spread needs."""
+    low, high = min(values), max(values)
+    magnitude = max(abs(low), abs(high))
+    if magnitude == 0.0:
+        return ["0" for _ in values]
     if magnitude >= 1e5 or magnitude < 1e-3:
-        return f"{value:.3g}"
+        return [f"{v:.3g}" for v in values]
+    if all(float(v).is_integer() for v in values):
+        return [f"{int(v)}" for v in values]
+    span = high - low
     digits = max(0, 2 - int(math.floor(math.log10(span)))) if span > 0 else 3
-    return f"{value:.{min(digits, 6)}f}"
+    return ["0" if v == 0.0 else f"{v:.{min(digits, 6)}f}" for v in values]
 
 
 def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> np.ndarray:
@@ -461,14 +471,24 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
     image.paste(bar_image, (bar_x, bar_y))
     outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
     draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
-    ticks = [(high, bar_y), ((low + high) / 2.0, bar_y + bar_height // 2), (low, bar_y + bar_height - 1)]
-    for value, y in ticks:
+    values = [high, (low + high) / 2.0, low]
+    positions = [bar_y, bar_y + bar_height // 2, bar_y + bar_height - 1]
+    for text, y in zip(_format_ticks(values), positions):
         draw.line([bar_x + bar_thickness, y, bar_x + bar_thickness + 4, y], fill=outline)
-        draw.text((bar_x + bar_thickness + 7, y), _format_tick(value, low, high), fill=text_fill,
-                  font=font, anchor="lm")
+        draw.text((bar_x + bar_thickness + 7, y), text, fill=text_fill, font=font, anchor="lm")
     if label:
-        draw.text((strip_x + bar_width // 2, bar_y - font_size - 4), str(label), fill=text_fill,
-                  font=font, anchor="ms")
+        # Fit the label over the strip: a smaller font first, then one word per line.
+        room = bar_width - 6
+        size = font_size
+        while size > 9 and draw.textlength(str(label), font=_font(size)) > room:
+            size -= 1
+        label_font = _font(size)
+        lines = [str(label)]
+        if draw.textlength(str(label), font=label_font) > room:
+            lines = str(label).split()
+        for k, line in enumerate(reversed(lines)):
+            draw.text((strip_x + bar_width // 2, bar_y - font_size // 2 - 6 - k * (size + 3)), line,
+                      fill=text_fill, font=label_font, anchor="ms")
 
 
 def _save_png(canvas: np.ndarray, path) -> None:

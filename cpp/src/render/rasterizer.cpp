@@ -50,38 +50,104 @@ class SrgbEncoder {
   std::array<std::uint8_t, kSize> table_{};
 };
 
+/// floor(value) clamped to [low, high] before the conversion (screen coordinates of triangles
+/// near the camera can be far outside the int range).
+int pixel_index(double value, int low, int high) {
+  return static_cast<int>(std::clamp(std::floor(value), static_cast<double>(low), static_cast<double>(high)));
+}
+
 // ---- geometry -------------------------------------------------------------------------------
 
-/// Angle-weighted vertex normals (Thürmer & Wüthrich 1998); zero for vertices of no proper face.
-/// Private to the renderer until the geometry chapter provides vertex normals.
-VertexMatrix angle_weighted_vertex_normals(const VertexRef& V, const FaceRef& F) {
-  VertexMatrix normals = VertexMatrix::Zero(V.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const std::array<int, 3> corner{F(f, 0), F(f, 1), F(f, 2)};
-    const Eigen::Vector3d p0 = V.row(corner[0]), p1 = V.row(corner[1]), p2 = V.row(corner[2]);
-    const Eigen::Vector3d face_normal = (p1 - p0).cross(p2 - p0);
-    const double length = face_normal.norm();
-    if (!(length > 0.0)) continue;
-    const Eigen::Vector3d unit = face_normal / length;
-    const std::array<Eigen::Vector3d, 3> p{p0, p1, p2};
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
-      const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-      normals.row(corner[k]) += angle * unit.transpose();
+/// #F·3 by 3 (row 3f+k: corner k of face f) unit normals for smooth shading: at each corner the
+/// angle-weighted average (Thürmer & Wüthrich 1998) of the normals of the faces around the
+/// corner's vertex that make a dihedral angle of at most `crease_angle_deg` with the corner's
+/// face, so sharp edges stay crisp; with 180 degrees these are the plain angle-weighted vertex
+/// normals. Zero rows for degenerate faces (the shader then uses the face normal). Private to
+/// the renderer until the geometry chapter provides vertex normals.
+using CornerNormals = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
+CornerNormals crease_aware_corner_normals(const VertexRef& V, const FaceRef& F,
+                                          double crease_angle_deg) {
+  const Eigen::Index faces = F.rows();
+  // Unit face normals and corner angles, per face in parallel.
+  VertexMatrix face_normal(faces, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> corner_angle(faces, 3);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, faces, 8192),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const std::array<Eigen::Vector3d, 3> p{V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(),
+                                             V.row(F(f, 2)).transpose()};
+      const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]);
+      const double twice_area = normal.norm();
+      if (!(twice_area > 0.0)) {
+        face_normal.row(f).setZero();
+        corner_angle.row(f).setZero();
+        continue;
+      }
+      face_normal.row(f) = normal.transpose() / twice_area;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+        corner_angle(f, k) = std::atan2(twice_area, a.dot(b));  // |a x b| is 2A at every corner
+      }
     }
+  });
+  // The corners around each vertex, in face order (so sums are deterministic).
+  std::vector<std::int64_t> start(V.rows() + 1, 0);
+  for (Eigen::Index f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) ++start[F(f, k) + 1];
+  for (Eigen::Index v = 0; v < V.rows(); ++v) start[v + 1] += start[v];
+  std::vector<std::int64_t> corners(start.back());
+  {
+    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
+    for (Eigen::Index f = 0; f < faces; ++f)
+      for (int k = 0; k < 3; ++k) corners[fill[F(f, k)]++] = 3 * f + k;
   }
-  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    const double length = normals.row(v).norm();
-    if (length > 0.0) normals.row(v) /= length;
-  }
+  const double cos_crease = crease_angle_deg >= 180.0 ? -2.0 : std::cos(crease_angle_deg * kPi / 180.0);
+  // Per vertex, in parallel: each corner around it sums the faces around it within the crease
+  // angle (each corner belongs to exactly one vertex, so the writes never collide).
+  CornerNormals normals(3 * faces, 3);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, V.rows(), 4096),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    std::vector<Eigen::Vector3d> around;  // angle-weighted normals of the faces around v
+    std::vector<Eigen::Vector3d> unit;    // their unit normals
+    for (Eigen::Index v = range.begin(); v != range.end(); ++v) {
+      const std::int64_t first = start[v], count = start[v + 1] - first;
+      around.resize(count);
+      unit.resize(count);
+      Eigen::Vector3d total = Eigen::Vector3d::Zero();
+      for (std::int64_t i = 0; i < count; ++i) {
+        const std::int64_t corner = corners[first + i];
+        unit[i] = face_normal.row(corner / 3).transpose();
+        around[i] = corner_angle(corner / 3, corner % 3) * unit[i];
+        total += around[i];
+      }
+      for (std::int64_t i = 0; i < count; ++i) {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        if (cos_crease < -1.0) {
+          sum = total;
+        } else {
+          for (std::int64_t j = 0; j < count; ++j)
+            if (unit[j].dot(unit[i]) >= cos_crease) sum += around[j];
+        }
+        const double length = sum.norm();
+        if (length > 0.0 && unit[i].squaredNorm() > 0.0)
+          normals.row(corners[first + i]) = (sum / length).cast<float>().transpose();
+        else
+          normals.row(corners[first + i]).setZero();
+      }
+    }
+  });
   return normals;
 }
 
+/// A projected vertex, kept to 16 bytes because triangles read them in random order (the
+/// edge functions are evaluated in double from these values, identically for both triangles of
+/// an edge, so single precision costs no watertightness).
 struct ScreenVertex {
-  double x = 0.0, y = 0.0;  // supersampled pixel coordinates, y down
-  double depth = 0.0;       // larger is closer: 1/z (perspective) or -z (orthographic)
-  double inverse_z = 1.0;   // 1/z for perspective-correct interpolation (1 when orthographic)
-  bool drawable = false;    // in front of the near plane
+  float x = 0.0f, y = 0.0f;  // supersampled pixel coordinates, y down
+  float depth = 0.0f;        // larger is closer: 1/z (perspective) or -z (orthographic)
+  float inverse_z = 0.0f;    // 1/z for perspective-correct interpolation (1 when orthographic);
+                             // 0 for a vertex behind the near plane, which is not drawable
+  bool drawable() const { return inverse_z > 0.0f; }
 };
 
 /// The camera frame: right, up, forward (unit, orthogonal).
@@ -141,8 +207,15 @@ struct TriangleSetup {
     const ScreenVertex &a = *vertex[0], &b = *vertex[1], &c = *vertex[2];
     area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   }
+  bool front() const { return area2 < 0.0; }
+  /// Screen bounding box {x_low, x_high, y_low, y_high}.
+  std::array<double, 4> bounds() const {
+    const ScreenVertex &a = *vertex[0], &b = *vertex[1], &c = *vertex[2];
+    return {std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}),
+            std::max({a.y, b.y, c.y})};
+  }
   bool drawable() const {
-    return vertex[0]->drawable && vertex[1]->drawable && vertex[2]->drawable && area2 != 0.0 &&
+    return vertex[0]->drawable() && vertex[1]->drawable() && vertex[2]->drawable() && area2 != 0.0 &&
            std::isfinite(area2);
   }
 };
@@ -159,7 +232,8 @@ class Shader {
   Shader(const VertexRef& V, const FaceRef& F, const CameraFrame& frame,
          const RenderOptions& options)
       : V_(V), F_(F), frame_(frame), options_(options) {
-    if (options.smooth_shading) vertex_normals_ = angle_weighted_vertex_normals(V, F);
+    if (options.smooth_shading)
+      corner_normals_ = crease_aware_corner_normals(V, F, options.crease_angle_deg);
     front_ = srgb_to_linear(options.front_color);
     back_ = srgb_to_linear(options.back_color);
     wire_ = srgb_to_linear(options.wireframe_color);
@@ -172,109 +246,137 @@ class Shader {
       const double span = options.scalar_max - options.scalar_min;
       scalar_scale_ = span > 0.0 ? 1.0 / span : 0.0;
     }
-    lights_ = {Light{Eigen::Vector3d(-0.45, 0.60, 0.66).normalized(), 0.72},   // key: upper left
-               Light{Eigen::Vector3d(0.70, -0.05, 0.55).normalized(), 0.26},   // fill: right
-               Light{Eigen::Vector3d(0.10, 0.45, -0.90).normalized(), 0.22}};  // rim: behind
+    lights_ = {Light{Eigen::Vector3d(-0.50, 0.65, 0.58).normalized(), 0.80},   // key: upper left
+               Light{Eigen::Vector3d(0.80, -0.15, 0.45).normalized(), 0.20},   // fill: right
+               Light{Eigen::Vector3d(0.20, 0.40, -0.90).normalized(), 0.25}};  // rim: behind
     halfway_ = (lights_[0].direction + Eigen::Vector3d::UnitZ()).normalized();
+    has_attribute_ = options.scalar.size() > 0 || options.uv.rows() > 0;
     wire_half_width_ = 0.5 * options.wireframe_width * options.supersample;
   }
 
-  /// Linear RGB of the sample at (x, y) (supersampled pixels) that shows triangle `face`.
-  Eigen::Vector3d shade(const TriangleSetup& triangle, int face, double x, double y) const {
-    std::array<double, 3> edge_value, weight;
+  /// Screen-space edge values and perspective-correct barycentric weights of sample (x, y).
+  struct SampleWeights {
+    std::array<double, 3> edge_value;
+    std::array<double, 3> weight;
+  };
+  SampleWeights weights(const TriangleSetup& triangle, double x, double y) const {
+    SampleWeights w;
     double total = 0.0;
     for (int k = 0; k < 3; ++k) {
-      edge_value[k] = triangle.edge[k](x, y);
-      const double screen_weight = std::max(0.0, edge_value[k] / triangle.area2);
-      weight[k] = screen_weight * triangle.vertex[k]->inverse_z;  // perspective-correct
-      total += weight[k];
+      w.edge_value[k] = triangle.edge[k](x, y);
+      const double screen_weight = std::max(0.0, w.edge_value[k] / triangle.area2);
+      w.weight[k] = screen_weight * triangle.vertex[k]->inverse_z;  // perspective-correct
+      total += w.weight[k];
     }
     if (total > 0.0) {
-      for (double& w : weight) w /= total;
+      for (double& v : w.weight) v /= total;
     } else {
-      weight = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+      w.weight = {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
     }
-    const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
-    const bool front = triangle.area2 < 0.0;
+    return w;
+  }
 
+  /// The light a surface point receives: albedo * diffuse + specular (white).
+  struct Lighting {
+    double diffuse = 1.0;
+    double specular = 0.0;
+  };
+
+  /// Lighting at the sample (the expensive part of shading: shared by the samples of a pixel
+  /// that see the same triangle, as in multisample anti-aliasing).
+  Lighting lighting(const TriangleSetup& triangle, int face, const SampleWeights& w) const {
+    if (!options_.lighting) return {};
+    const std::array<int, 3> index{F_(face, 0), F_(face, 1), F_(face, 2)};
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
     if (options_.smooth_shading)
-      for (int k = 0; k < 3; ++k) normal += weight[k] * vertex_normals_.row(index[k]).transpose();
+      for (int k = 0; k < 3; ++k)
+        normal += w.weight[k] * corner_normals_.row(3 * static_cast<Eigen::Index>(face) + k).transpose().cast<double>();
     if (!(normal.squaredNorm() > 1e-12)) {
       const Eigen::Vector3d p0 = V_.row(index[0]), p1 = V_.row(index[1]), p2 = V_.row(index[2]);
       normal = (p1 - p0).cross(p2 - p0);
     }
     Eigen::Vector3d n(normal.dot(frame_.right), normal.dot(frame_.up), -normal.dot(frame_.forward));
     n.normalize();
-    if (!front) n = -n;
+    if (!triangle.front()) n = -n;
+    Lighting light;
+    light.diffuse = kAmbientGround + (kAmbientSky - kAmbientGround) * (0.5 + 0.5 * n.y());
+    for (const Light& source : lights_)
+      light.diffuse += source.intensity * std::max(0.0, n.dot(source.direction));
+    const double highlight = std::max(0.0, n.dot(halfway_));
+    const double h2 = highlight * highlight, h4 = h2 * h2, h8 = h4 * h4, h16 = h8 * h8;
+    light.specular = specular_ * h16 * h16 * h8;  // Blinn-Phong, exponent 40
+    return light;
+  }
 
+  /// Linear RGB of the sample: material (or scalar / checker colour) under `light`, then the
+  /// wireframe line over it.
+  Eigen::Vector3d color(const TriangleSetup& triangle, int face, const SampleWeights& w,
+                        const Lighting& light) const {
+    const bool front = triangle.front();
     Eigen::Vector3d albedo = front ? front_ : back_;
-    bool has_attribute = false;
-    Eigen::Vector3d attribute = Eigen::Vector3d::Ones();
-    if (options_.scalar.size() > 0) {
-      double s = 0.0;
-      for (int k = 0; k < 3; ++k) s += weight[k] * options_.scalar[index[k]];
-      const double t = std::clamp((s - options_.scalar_min) * scalar_scale_, 0.0, 1.0);
-      attribute = scalar_scale_ > 0.0 ? colormap_[static_cast<int>(t * (kColormapSteps - 1) + 0.5)]
-                                      : colormap_[kColormapSteps / 2];
-      has_attribute = true;
-    }
-    if (options_.uv.rows() > 0) {
-      double u = 0.0, v = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Index row = options_.uv_per_corner ? 3 * static_cast<Eigen::Index>(face) + k
-                                                        : index[k];
-        u += weight[k] * options_.uv(row, 0);
-        v += weight[k] * options_.uv(row, 1);
+    if (has_attribute_) {
+      Eigen::Vector3d attribute = Eigen::Vector3d::Ones();
+      if (options_.scalar.size() > 0) {
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) s += w.weight[k] * options_.scalar[F_(face, k)];
+        const double t = std::clamp((s - options_.scalar_min) * scalar_scale_, 0.0, 1.0);
+        attribute = scalar_scale_ > 0.0 ? colormap_[static_cast<int>(t * (kColormapSteps - 1) + 0.5)]
+                                        : colormap_[kColormapSteps / 2];
       }
-      const long parity = static_cast<long>(std::floor(u / options_.checker_size)) +
-                          static_cast<long>(std::floor(v / options_.checker_size));
-      const bool dark = (parity & 1L) != 0;
-      if (has_attribute)
-        attribute *= dark ? 0.62 : 1.0;
-      else
-        attribute = dark ? checker_dark_ : checker_light_;
-      has_attribute = true;
+      if (options_.uv.rows() > 0) {
+        double u = 0.0, v = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Index row = options_.uv_per_corner ? 3 * static_cast<Eigen::Index>(face) + k
+                                                          : F_(face, k);
+          u += w.weight[k] * options_.uv(row, 0);
+          v += w.weight[k] * options_.uv(row, 1);
+        }
+        const long parity = static_cast<long>(std::floor(u / options_.checker_size)) +
+                            static_cast<long>(std::floor(v / options_.checker_size));
+        const bool dark = (parity & 1L) != 0;
+        if (options_.scalar.size() > 0)
+          attribute *= dark ? 0.62 : 1.0;
+        else
+          attribute = dark ? checker_dark_ : checker_light_;
+      }
+      albedo = front ? attribute : (0.4 * attribute + 0.6 * back_).eval();
     }
-    if (has_attribute) albedo = front ? attribute : 0.4 * attribute + 0.6 * back_;
-
-    Eigen::Vector3d color;
-    if (options_.lighting) {
-      double diffuse = 0.10 + 0.10 * (0.5 + 0.5 * n.y());  // hemisphere ambient: sky above
-      for (const Light& light : lights_) diffuse += light.intensity * std::max(0.0, n.dot(light.direction));
-      const double highlight = std::max(0.0, n.dot(halfway_));
-      const double h2 = highlight * highlight, h4 = h2 * h2, h8 = h4 * h4, h16 = h8 * h8;
-      const double specular = 0.16 * h16 * h16 * h8;  // Blinn-Phong, exponent 40
-      color = albedo * diffuse + Eigen::Vector3d::Constant(specular);
-    } else {
-      color = albedo;
-    }
+    Eigen::Vector3d result = albedo * light.diffuse + Eigen::Vector3d::Constant(
+        has_attribute_ ? 0.4 * light.specular : light.specular);
 
     if (options_.wireframe) {
-      double distance = std::numeric_limits<double>::infinity();
+      double distance = std::numeric_limits<double>::infinity(), longest = 0.0;
       for (int k = 0; k < 3; ++k) {
         const double length = triangle.edge[k].length();
-        if (length > 0.0) distance = std::min(distance, std::abs(edge_value[k]) / length);
+        longest = std::max(longest, length);
+        if (length > 0.0) distance = std::min(distance, std::abs(w.edge_value[k]) / length);
       }
       const double coverage = std::clamp(wire_half_width_ + 0.5 - distance, 0.0, 1.0);
-      const double alpha = coverage * options_.wireframe_opacity;
-      color = (1.0 - alpha) * color + alpha * wire_;
+      // Lines of triangles only a few pixels high fade, so dense meshes do not turn black.
+      const double altitude = longest > 0.0 ? std::abs(triangle.area2) / longest / options_.supersample : 0.0;
+      const double fade = std::clamp(altitude / kWireFadeAltitude, kWireMinimumFade, 1.0);
+      const double alpha = coverage * options_.wireframe_opacity * fade;
+      result = (1.0 - alpha) * result + alpha * wire_;
     }
-    return color;
+    return result;
   }
 
  private:
   static constexpr int kColormapSteps = 1024;
+  static constexpr double kAmbientGround = 0.05, kAmbientSky = 0.16, kSpecular = 0.18;
+  static constexpr double kWireFadeAltitude = 7.0, kWireMinimumFade = 0.35;  // output pixels
   const VertexRef& V_;
   const FaceRef& F_;
   CameraFrame frame_;
   const RenderOptions& options_;
-  VertexMatrix vertex_normals_;
+  CornerNormals corner_normals_;
   Eigen::Vector3d front_, back_, wire_, checker_light_, checker_dark_, halfway_;
   std::array<Eigen::Vector3d, kColormapSteps> colormap_;
   std::array<Light, 3> lights_;
   double scalar_scale_ = 0.0;
   double wire_half_width_ = 0.5;
+  double specular_ = kSpecular;
+  bool has_attribute_ = false;
 };
 
 // ---- validation -----------------------------------------------------------------------------
@@ -292,6 +394,8 @@ void validate_options(const VertexRef& V, const FaceRef& F, const RenderOptions&
     throw InputError("render: " + std::to_string(samples) +
                      " samples (width*height*supersample^2) exceed the limit of " +
                      std::to_string(kMaxSamples) + "; lower the size or the supersampling");
+  if (!(options.crease_angle_deg >= 0.0) || !std::isfinite(options.crease_angle_deg))
+    throw InputError("render: crease_angle_deg must be >= 0 (180 or more: smooth everywhere)");
   if (!(options.wireframe_width > 0.0) || !std::isfinite(options.wireframe_width))
     throw InputError("render: wireframe_width must be > 0");
   if (!(options.wireframe_opacity >= 0.0 && options.wireframe_opacity <= 1.0))
@@ -356,6 +460,14 @@ std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
     return low + (position - below) * (high - low);
   };
   double low = percentile(lower_percentile), high = percentile(upper_percentile);
+  if (!(high > low)) {  // the percentiles coincide (e.g. valences, mostly 6): use the extremes
+    low = *std::min_element(sorted.begin(), sorted.end());
+    high = *std::max_element(sorted.begin(), sorted.end());
+  }
+  if (!(high > low)) {  // a constant field: a small range around it, shown in the middle colour
+    const double half = low == 0.0 ? 1.0 : 0.1 * std::abs(low);
+    low -= half, high += half;
+  }
   if (symmetric_about_zero && low < 0.0 && high > 0.0) {
     const double m = std::max(-low, high);
     low = -m, high = m;
@@ -394,10 +506,14 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       const double x = p.dot(frame.right), y = p.dot(frame.up), z = p.dot(frame.forward);
       ScreenVertex& s = screen[i];
       if (camera.orthographic) {
-        s = {0.5 * width + focal * x, 0.5 * height - focal * y, -z, 1.0, true};
+        s = {static_cast<float>(0.5 * width + focal * x), static_cast<float>(0.5 * height - focal * y),
+             static_cast<float>(-z), 1.0f};
       } else if (z > near) {
         const double w = 1.0 / z;
-        s = {0.5 * width + focal * x * w, 0.5 * height - focal * y * w, w, w, true};
+        s = {static_cast<float>(0.5 * width + focal * x * w),
+             static_cast<float>(0.5 * height - focal * y * w), static_cast<float>(w),
+             static_cast<float>(w)};
+        if (!std::isfinite(s.x) || !std::isfinite(s.y) || !(s.inverse_z > 0.0f)) s = ScreenVertex{};
       }
     }
   });
@@ -405,22 +521,25 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
   // Bin the triangles into strips of rows (in face order, so strips draw deterministically).
   const int strips = (height + kStripRows - 1) / kStripRows;
   std::vector<std::int64_t> strip_start(strips + 1, 0);
+  // The strips each face overlaps ({0, -1}: none), in parallel; faces that are not drawable,
+  // off screen, or so small that their bounding box holds no sample centre get none.
   std::vector<std::array<int, 2>> face_strips(F.rows(), {0, -1});
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const TriangleSetup triangle(screen, F, static_cast<int>(f));
-    if (!triangle.drawable()) continue;
-    double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
-    double y_low = x_low, y_high = -x_low;
-    for (const ScreenVertex* v : triangle.vertex) {
-      x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
-      y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 16384),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const TriangleSetup triangle(screen, F, static_cast<int>(f));
+      if (!triangle.drawable()) continue;
+      const auto [x_low, x_high, y_low, y_high] = triangle.bounds();
+      if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
+      if (std::ceil(x_low - 0.5) > std::floor(x_high - 0.5) ||
+          std::ceil(y_low - 0.5) > std::floor(y_high - 0.5))
+        continue;  // no sample centre inside the bounding box
+      face_strips[f] = {pixel_index(y_low, 0, height - 1) / kStripRows,
+                        pixel_index(y_high, 0, height - 1) / kStripRows};
     }
-    if (x_high < 0.0 || x_low > width || y_high < 0.0 || y_low > height) continue;
-    const int first = std::max(0, static_cast<int>(std::floor(y_low)) / kStripRows);
-    const int last = std::min(strips - 1, static_cast<int>(std::floor(std::min(y_high, double(height)))) / kStripRows);
-    face_strips[f] = {first, last};
-    for (int s = first; s <= last; ++s) ++strip_start[s + 1];
-  }
+  });
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int s = face_strips[f][0]; s <= face_strips[f][1]; ++s) ++strip_start[s + 1];
   for (int s = 0; s < strips; ++s) strip_start[s + 1] += strip_start[s];
   std::vector<int> binned(strip_start[strips]);
   {
@@ -439,17 +558,12 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       for (std::int64_t b = strip_start[s]; b < strip_start[s + 1]; ++b) {
         const int f = binned[b];
         const TriangleSetup triangle(screen, F, f);
-        double x_low = std::numeric_limits<double>::infinity(), x_high = -x_low;
-        double y_low = x_low, y_high = -x_low;
-        for (const ScreenVertex* v : triangle.vertex) {
-          x_low = std::min(x_low, v->x), x_high = std::max(x_high, v->x);
-          y_low = std::min(y_low, v->y), y_high = std::max(y_high, v->y);
-        }
+        const auto [x_low, x_high, y_low, y_high] = triangle.bounds();
         // Sample (x, y) sits at (x + 0.5, y + 0.5).
-        const int x0 = std::max(0, static_cast<int>(std::ceil(x_low - 0.5)));
-        const int x1 = std::min(width - 1, static_cast<int>(std::floor(x_high - 0.5)));
-        const int y0 = std::max(row_begin, static_cast<int>(std::ceil(y_low - 0.5)));
-        const int y1 = std::min(row_end - 1, static_cast<int>(std::floor(y_high - 0.5)));
+        const int x0 = pixel_index(std::ceil(x_low - 0.5), 0, width - 1);
+        const int x1 = pixel_index(std::floor(x_high - 0.5), -1, width - 1);
+        const int y0 = pixel_index(std::ceil(y_low - 0.5), row_begin, row_end - 1);
+        const int y1 = pixel_index(std::floor(y_high - 0.5), row_begin - 1, row_end - 1);
         if (x0 > x1 || y0 > y1) continue;
         const double inverse_area = 1.0 / triangle.area2;
         const double d0 = triangle.vertex[0]->depth, d1 = triangle.vertex[1]->depth,
@@ -483,6 +597,10 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
   image.height = options.height;
   image.pixels.assign(static_cast<std::size_t>(options.width) * options.height * 4, 0);
   const double samples_per_pixel = ss * ss;
+  // Without a wireframe or per-vertex attributes a triangle's colour within one pixel is its
+  // lighting alone, computed at the first sample that sees it.
+  const bool uniform_per_triangle =
+      !options.wireframe && options.scalar.size() == 0 && options.uv.rows() == 0;
   tbb::parallel_for(tbb::blocked_range<int>(0, options.height, 4), [&](const tbb::blocked_range<int>& range) {
     for (int row = range.begin(); row != range.end(); ++row) {
       const double t = options.height > 1 ? static_cast<double>(row) / (options.height - 1) : 0.0;
@@ -491,15 +609,34 @@ RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera
       for (int column = 0; column < options.width; ++column) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         int covered = 0;
+        // Lighting once per triangle seen in this pixel; colour and wireframe once per sample.
+        std::array<int, 16> group_face;
+        std::array<Shader::Lighting, 16> group_light;
+        std::array<Eigen::Vector3d, 16> group_color;  // when the colour does not vary per sample
+        int groups = 0;
         for (int sy = 0; sy < ss; ++sy) {
           const int y = row * ss + sy;
           for (int sx = 0; sx < ss; ++sx) {
             const int x = column * ss + sx;
             const int f = visible[static_cast<std::size_t>(y) * width + x];
             if (f < 0) continue;
-            const TriangleSetup triangle(screen, F, f);
-            sum += shader.shade(triangle, f, x + 0.5, y + 0.5);
             ++covered;
+            int g = 0;
+            while (g < groups && group_face[g] != f) ++g;
+            if (g < groups && uniform_per_triangle) {
+              sum += group_color[g];
+              continue;
+            }
+            const TriangleSetup triangle(screen, F, f);
+            const Shader::SampleWeights w = shader.weights(triangle, x + 0.5, y + 0.5);
+            if (g == groups) {
+              group_face[g] = f;
+              group_light[g] = shader.lighting(triangle, f, w);
+              ++groups;
+            }
+            const Eigen::Vector3d color = shader.color(triangle, f, w, group_light[g]);
+            if (uniform_per_triangle) group_color[g] = color;
+            sum += color;
           }
         }
         std::uint8_t* pixel = image.pixels.data() + (static_cast<std::size_t>(row) * options.width + column) * 4;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file rasterizer.h
 /// A software z-buffer rasterizer that draws shaded pictures of triangle meshes: smooth
-/// (per-vertex normal) or flat shading with a key, a fill and a rim light over a hemisphere
+/// (interpolated angle-weighted normals, split at creases) or flat shading with a key, a fill and a rim light over a hemisphere
 /// ambient term, back faces in their own tint so holes show, an optional per-vertex scalar
 /// field through a colormap, an optional checkerboard through texture coordinates and an
 /// optional wireframe drawn in the fragment stage from the distance to the triangle's edges.
@@ -9,8 +9,9 @@
 ///
 /// It works in two passes over a supersampled image: a visibility pass that bins triangles into
 /// horizontal strips and rasterizes each strip (in parallel, each strip in triangle order, so
-/// the result does not depend on the number of threads), then a shading pass that evaluates each
-/// visible sample once with perspective-correct interpolation of normals, scalars and UVs.
+/// the result does not depend on the number of threads), then a shading pass that lights each
+/// triangle once per pixel (as multisampling does) and evaluates colour and wireframe per sample,
+/// with perspective-correct interpolation of normals, scalars and UVs.
 #include <meshsmith/core/types.h>
 #include <meshsmith/render/camera.h>
 #include <meshsmith/render/colormap.h>
@@ -32,6 +33,9 @@ struct RenderOptions {
   int height = 600;                ///< output image height in pixels, >= 1
   int supersample = 3;             ///< samples per pixel along each axis, 1..4
   bool smooth_shading = true;      ///< interpolate vertex normals (false: one normal per face)
+  /// Smooth shading keeps edges whose dihedral angle exceeds this crisp (per-corner normals
+  /// average only the faces around the vertex within this angle); >= 180: smooth everywhere.
+  double crease_angle_deg = 60.0;
   bool lighting = true;            ///< false: unlit colours (albedo only), e.g. for UV layouts
   Eigen::Vector3d front_color{0.60, 0.68, 0.80};  ///< material of front faces (soft gray-blue)
   Eigen::Vector3d back_color{0.88, 0.56, 0.42};   ///< material of back faces (warm, shows holes)
@@ -39,7 +43,7 @@ struct RenderOptions {
   bool wireframe = false;          ///< draw triangle edges
   double wireframe_width = 1.0;    ///< line width in output pixels, > 0
   Eigen::Vector3d wireframe_color{0.10, 0.11, 0.14};
-  double wireframe_opacity = 0.85; ///< in [0, 1]
+  double wireframe_opacity = 0.75; ///< in [0, 1]; lines of triangles under ~7 pixels high fade
 
   Eigen::Vector3d background_top{1.0, 1.0, 1.0};      ///< vertical gradient, top row
   Eigen::Vector3d background_bottom{0.88, 0.90, 0.94}; ///< bottom row
@@ -76,7 +80,9 @@ void validate_vertex_scalar(const Eigen::VectorXd& values, Eigen::Index vertex_c
 /// The range that colours a scalar field well: the lower and upper percentiles (numpy's default
 /// linear interpolation between order statistics), so a few outliers do not wash out the
 /// colours. With `symmetric_about_zero` and a range that contains 0, the range becomes [-m, m],
-/// m = max(|low|, |high|), so zero sits at the centre of a diverging colormap.
+/// m = max(|low|, |high|), so zero sits at the centre of a diverging colormap. When the
+/// percentiles coincide the range is [min, max]; a constant field c gets [c - d, c + d] with
+/// d = 0.1|c| (1 if c = 0), so the range is never empty.
 /// \pre values is non-empty and finite (validate_vertex_scalar).
 /// \throw InputError for empty values or percentiles outside 0 <= lower <= upper <= 100.
 std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
@@ -87,13 +93,13 @@ std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
 /// Renders the triangle mesh (V #V×3, F #F×3) seen through `camera`.
 /// Triangles with a vertex behind the camera's near plane (closer than 1e-6 of the eye-target
 /// distance) are not drawn; auto-framed cameras (frame_camera) never produce such triangles.
-/// Vertex normals are angle-weighted averages of the face normals.
+/// Smooth-shading normals are angle-weighted averages of face normals, split at creases.
 /// \pre validate_mesh(V, F) passes.
 /// \throw InputError for an invalid mesh, a size outside [1, 16384] or more than 2^25 samples,
 ///        supersample outside 1..4, a degenerate camera (eye == target, up parallel to the view,
 ///        fov outside (0, 180), ortho_height <= 0), a scalar of the wrong length or with a
 ///        NaN/Inf, scalar_min > scalar_max, UVs of the wrong size or non-finite, checker_size < 0,
-///        wireframe_width <= 0. Messages name the offending element.
+///        wireframe_width <= 0, crease_angle_deg < 0. Messages name the offending element.
 RgbaImage render_mesh(const VertexRef& V, const FaceRef& F, const Camera& camera,
                       const RenderOptions& options = {});
 
