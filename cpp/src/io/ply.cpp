@@ -2,6 +2,7 @@
 #include <meshsmith/io/formats.h>
 #include <meshsmith/io/parsing.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 
@@ -199,6 +200,7 @@ class MeshBuilder {
   void begin_vertices(const Element& element) {
     has_vertices_ = true;
     vertex_count_ = element.count;
+    vertex_limit_ = static_cast<double>(element.count);
     if (vertex_count_ > INT_MAX) throw InputError(path_ + ": too many vertices");
     bool roles[11] = {};
     for (const Property& property : element.properties) roles[static_cast<int>(property.role)] = true;
@@ -228,33 +230,66 @@ class MeshBuilder {
     }
   }
 
-  /// Starts a polygon (face element) or a strip; returns an error message or "".
-  void begin_list(Role role) { role_ = role; list_.clear(); }
-  /// Adds an index to the current list; returns an error message or "".
-  std::string list_index(double value) {
-    if (role_ == Role::strip_indices && value == -1) {
-      list_.push_back(-1);
-      return {};
-    }
-    if (!(value >= 0 && value < static_cast<double>(vertex_count_)))
-      return "vertex index " + std::to_string(static_cast<std::int64_t>(value)) + " outside [0, " +
-             std::to_string(vertex_count_) + ")";
-    list_.push_back(static_cast<int>(value));
+  /// Reserves room for `faces` more faces of about `corners` corners in all.
+  void reserve_faces(std::size_t faces, std::size_t corners) {
+    if (!read_faces_) return;
+    mesh.face_offsets.reserve(mesh.face_offsets.size() + faces);
+    mesh.face_vertices.reserve(mesh.face_vertices.size() + corners);
+  }
+
+  /// Starts a list of `count` indices of a face or strip property; "" or an error message.
+  std::string begin_list(Role role, std::int64_t count) {
+    role_ = role;
+    list_.clear();
+    if (role == Role::face_indices && count < 3)
+      return "face with " + std::to_string(count) + " corners (at least 3 needed)";
     return {};
   }
-  /// Ends the current list; returns an error message or "".
-  std::string end_list() {
-    if (role_ == Role::face_indices) {
-      if (list_.size() < 3)
-        return "face with " + std::to_string(list_.size()) + " corners (at least 3 needed)";
-      if (read_faces_) {
-        mesh.face_vertices.insert(mesh.face_vertices.end(), list_.begin(), list_.end());
-        mesh.face_offsets.push_back(mesh.face_vertices.size());
+
+  /// Adds an index to the current list; false when it is out of range (see index_error).
+  bool add_index(double value) {
+    if (role_ == Role::strip_indices) {
+      if (value == -1) {
+        list_.push_back(-1);
+        return true;
       }
-    } else if (role_ == Role::strip_indices && read_faces_) {
-      add_strips();
+      if (!(value >= 0 && value < vertex_limit_)) return false;
+      list_.push_back(static_cast<int>(value));
+      return true;
     }
-    return {};
+    if (!(value >= 0 && value < vertex_limit_)) return false;
+    if (read_faces_) mesh.face_vertices.push_back(static_cast<int>(value));
+    return true;
+  }
+
+  /// Adds a face of `size` 32-bit indices at `data` (int32 or uint32: both are in range only
+  /// when below the vertex count as unsigned); false, adding nothing, if one is out of range.
+  bool add_face(const char* data, int size, bool swap) {
+    const std::size_t first = mesh.face_vertices.size();
+    for (int k = 0; k < size; ++k) {
+      const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+      if (index >= static_cast<std::uint64_t>(vertex_count_)) {
+        if (read_faces_) mesh.face_vertices.resize(first);
+        return false;
+      }
+      if (read_faces_) mesh.face_vertices.push_back(static_cast<int>(index));
+    }
+    if (read_faces_) mesh.face_offsets.push_back(mesh.face_vertices.size());
+    return true;
+  }
+
+  std::int64_t vertex_count() const { return vertex_count_; }
+
+  std::string index_error(double value) const {
+    return "vertex index " + std::to_string(static_cast<std::int64_t>(value)) + " outside [0, " +
+           std::to_string(vertex_count_) + ")";
+  }
+
+  /// Ends the current list.
+  void end_list() {
+    if (!read_faces_) return;
+    if (role_ == Role::face_indices) mesh.face_offsets.push_back(mesh.face_vertices.size());
+    else if (role_ == Role::strip_indices) add_strips();
   }
 
   bool needs_vertex_count() const { return !has_vertices_; }
@@ -283,9 +318,65 @@ class MeshBuilder {
   bool read_faces_;
   bool has_vertices_ = false, has_normals_ = false, has_uv_ = false;
   std::int64_t vertex_count_ = 0;
+  double vertex_limit_ = 0;
   Role role_ = Role::skip;
   std::vector<int> list_;
 };
+
+/// The vertex element when all its properties have fixed sizes: decode only the kept ones at
+/// their offsets in each record.
+void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& builder) {
+  struct Field { std::size_t offset; const Property* property; };
+  std::vector<Field> fields;
+  std::size_t stride = 0;
+  for (const Property& property : element.properties) {
+    if (property.role != Role::skip) fields.push_back({stride, &property});
+    stride += scalar_size(property.type);
+  }
+  in.require(stride * element.count, "the vertex element");
+  const char* base = in.here();
+  const bool swap = in.swap();
+  for (std::int64_t r = 0; r < element.count; ++r, base += stride)
+    for (const Field& field : fields)
+      if (!builder.vertex_value(r, field.property->role,
+                                decode_scalar(field.property->type, base + field.offset, swap)))
+        in.fail_at(in.offset() + r * stride + field.offset,
+                   "vertex " + std::to_string(r) + " has a non-finite " + field.property->name);
+  in.skip(stride * element.count, "the vertex element");
+}
+
+/// The common face element (only `list uchar int|uint vertex_indices`): a tight loop that
+/// writes the indices straight into the mesh.
+bool parse_simple_faces(ByteReader& in, const Element& element, MeshBuilder& builder) {
+  if (element.properties.size() != 1) return false;
+  const Property& property = element.properties[0];
+  if (property.role != Role::face_indices || scalar_size(property.count_type) != 1 ||
+      (property.type != Scalar::int32 && property.type != Scalar::uint32))
+    return false;
+  const bool swap = in.swap();
+  const bool signed_count = property.count_type == Scalar::int8;
+  for (std::int64_t r = 0; r < element.count; ++r) {
+    const std::size_t start = in.offset();
+    in.require(1, "a face size");
+    const int size = signed_count ? static_cast<int>(static_cast<std::int8_t>(*in.here()))
+                                  : static_cast<int>(static_cast<std::uint8_t>(*in.here()));
+    const std::string error = size < 3 ? builder.begin_list(Role::face_indices, size) : std::string();
+    if (!error.empty()) in.fail_at(start, "face " + std::to_string(r) + ": " + error);
+    in.skip(1, "a face size");
+    in.require(4 * static_cast<std::size_t>(size), "face indices");
+    const char* data = in.here();
+    if (!builder.add_face(data, size, swap)) {
+      for (int k = 0; k < size; ++k) {
+        const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+        const double value = property.type == Scalar::int32 ? static_cast<double>(static_cast<std::int32_t>(index)) : index;
+        if (!(value >= 0 && value < static_cast<double>(builder.vertex_count())))
+          in.fail_at(in.offset() + 4 * k, "face " + std::to_string(r) + ": " + builder.index_error(value));
+      }
+    }
+    in.skip(4 * static_cast<std::size_t>(size), "face indices");
+  }
+  return true;
+}
 
 void parse_binary_body(const std::string& path, std::string_view bytes, const Header& header,
                        MeshBuilder& builder) {
@@ -293,9 +384,8 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
   const bool swap = in.swap();
   for (const Element& element : header.elements) {
     const bool is_vertex = element.name == "vertex";
-    bool has_role = false;
+    bool has_role = false, all_fixed = true;
     std::size_t fixed_size = 0;
-    bool all_fixed = true;
     for (const Property& property : element.properties) {
       has_role |= property.role != Role::skip;
       all_fixed &= !property.is_list;
@@ -304,6 +394,14 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
     if (!has_role && all_fixed) {  // nothing to keep: skip the whole element at once
       in.skip(fixed_size * element.count, ("element '" + element.name + "'").c_str());
       continue;
+    }
+    if (is_vertex && all_fixed) {
+      parse_fixed_vertices(in, element, builder);
+      continue;
+    }
+    if (element.name == "face") {
+      builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, in.remaining_bytes() / 4));
+      if (parse_simple_faces(in, element, builder)) continue;
     }
     for (std::int64_t r = 0; r < element.count; ++r) {
       for (const Property& property : element.properties) {
@@ -329,14 +427,17 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
           in.skip(items * item_size, property.name.c_str());
           continue;
         }
-        builder.begin_list(property.role);
-        for (std::size_t k = 0; k < items; ++k) {
-          std::string error = builder.list_index(decode_scalar(property.type, in.here(), swap));
-          if (!error.empty()) in.fail(element.name + " " + std::to_string(r) + ": " + error);
-          in.skip(item_size, property.name.c_str());
-        }
-        std::string error = builder.end_list();
+        std::string error = builder.begin_list(property.role, static_cast<std::int64_t>(items));
         if (!error.empty()) in.fail_at(list_start, element.name + " " + std::to_string(r) + ": " + error);
+        const char* data = in.here();
+        for (std::size_t k = 0; k < items; ++k) {
+          const double index = decode_scalar(property.type, data + k * item_size, swap);
+          if (!builder.add_index(index))
+            in.fail_at(in.offset() + k * item_size,
+                       element.name + " " + std::to_string(r) + ": " + builder.index_error(index));
+        }
+        in.skip(items * item_size, property.name.c_str());
+        builder.end_list();
       }
     }
   }
@@ -355,6 +456,9 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
   for (const Element& element : header.elements) {
     if (element.properties.empty()) continue;
     const bool is_vertex = element.name == "vertex";
+    for (const Property& property : element.properties)
+      if (property.role == Role::face_indices)
+        builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, lines.remaining_bytes() / 2));
     for (std::int64_t r = 0; r < element.count; ++r) {
       if (!lines.next_content(line, '\0'))
         lines.fail("unexpected end of file in element '" + element.name + "' (" + std::to_string(r) +
@@ -373,7 +477,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
         std::int64_t count;
         if (!parse_integer(count_token, count) || count < 0)
           lines.fail(quoted(count_token) + " is not a list length");
-        if (property.role != Role::skip) builder.begin_list(property.role);
+        if (property.role != Role::skip) {
+          std::string error = builder.begin_list(property.role, count);
+          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+        }
         for (std::int64_t k = 0; k < count; ++k) {
           std::string_view item = next_value(tokens, property, element, r);
           double value;
@@ -381,13 +488,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
             lines.fail(quoted(item) + " is not a finite number");
           if (property.role == Role::skip) continue;
           if (value != std::floor(value)) lines.fail("vertex index " + quoted(item) + " is not an integer");
-          std::string error = builder.list_index(value);
-          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+          if (!builder.add_index(value))
+            lines.fail(element.name + " " + std::to_string(r) + ": " + builder.index_error(value));
         }
-        if (property.role != Role::skip) {
-          std::string error = builder.end_list();
-          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
-        }
+        if (property.role != Role::skip) builder.end_list();
       }
       if (!tokens.empty())
         lines.fail(element.name + " " + std::to_string(r) + ": more values than the header declares");

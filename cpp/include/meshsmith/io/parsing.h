@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -17,10 +18,36 @@
 
 namespace meshsmith::io {
 
+/// The whole content of a file, read-only: a private memory map of the file (POSIX) or, where
+/// mapping is not possible, a buffer it was read into.
+class FileContents {
+ public:
+  FileContents(std::unique_ptr<char[]> data, std::size_t size) : buffer_(std::move(data)), size_(size) {}
+  FileContents(const void* mapping, std::size_t size) : mapping_(mapping), size_(size) {}
+  FileContents(FileContents&& other) noexcept
+      : buffer_(std::move(other.buffer_)), mapping_(other.mapping_), size_(other.size_) {
+    other.mapping_ = nullptr;
+  }
+  FileContents(const FileContents&) = delete;
+  FileContents& operator=(const FileContents&) = delete;
+  FileContents& operator=(FileContents&&) = delete;
+  ~FileContents();
+
+  std::string_view bytes() const {
+    return {mapping_ ? static_cast<const char*>(mapping_) : buffer_.get(), size_};
+  }
+  operator std::string_view() const { return bytes(); }
+
+ private:
+  std::unique_ptr<char[]> buffer_;
+  const void* mapping_ = nullptr;
+  std::size_t size_;
+};
+
 /// The whole content of `path`.
 /// \throw InputError if the file does not exist, is a directory or not a regular file, cannot be
 ///        read, or is empty.
-std::string read_file_contents(const std::string& path);
+FileContents read_file_contents(const std::string& path);
 
 /// Writes `contents` to `path` (replacing it).
 /// \throw InputError if the file cannot be opened or written.
