@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <utility>
 #include <cmath>
 
 namespace meshsmith::io {
@@ -214,6 +215,19 @@ class MeshBuilder {
     if (has_uv_) mesh.UV.resize(vertex_count_, 2);
   }
 
+  /// Where the values of `role` go: a column of V, N or UV (pointer to row 0 and row stride),
+  /// or nullptr when the role is not kept.
+  std::pair<double*, Eigen::Index> destination(Role role) {
+    const int r = static_cast<int>(role);
+    if (role == Role::x || role == Role::y || role == Role::z) return {mesh.V.data() + (r - int(Role::x)), 3};
+    if (has_normals_ && (role == Role::nx || role == Role::ny || role == Role::nz))
+      return {mesh.N.data() + (r - int(Role::nx)), 3};
+    if (has_uv_ && (role == Role::u || role == Role::v)) return {mesh.UV.data() + (r - int(Role::u)), 2};
+    return {nullptr, 0};
+  }
+
+  bool reads_faces() const { return read_faces_; }
+
   /// Stores `value` of vertex `i`; false when the value is not finite where it matters.
   bool vertex_value(std::int64_t i, Role role, double value) {
     switch (role) {
@@ -326,23 +340,77 @@ class MeshBuilder {
 /// The vertex element when all its properties have fixed sizes: decode only the kept ones at
 /// their offsets in each record.
 void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& builder) {
-  struct Field { std::size_t offset; const Property* property; };
+  struct Field { std::size_t offset; const Property* property; double* destination; Eigen::Index stride; };
   std::vector<Field> fields;
-  std::size_t stride = 0;
+  std::size_t record = 0;
   for (const Property& property : element.properties) {
-    if (property.role != Role::skip) fields.push_back({stride, &property});
-    stride += scalar_size(property.type);
+    if (property.role != Role::skip) {
+      auto [destination, stride] = builder.destination(property.role);
+      fields.push_back({record, &property, destination, stride});
+    }
+    record += scalar_size(property.type);
   }
-  in.require(stride * element.count, "the vertex element");
+  in.require(record * element.count, "the vertex element");
   const char* base = in.here();
   const bool swap = in.swap();
-  for (std::int64_t r = 0; r < element.count; ++r, base += stride)
-    for (const Field& field : fields)
-      if (!builder.vertex_value(r, field.property->role,
-                                decode_scalar(field.property->type, base + field.offset, swap)))
-        in.fail_at(in.offset() + r * stride + field.offset,
+  for (const Field& field : fields) {
+    const char* data = base + field.offset;
+    double* out = field.destination;
+    const Scalar type = field.property->type;
+    for (std::int64_t r = 0; r < element.count; ++r, data += record) {
+      const double value = type == Scalar::float32 ? ByteReader::decode<float>(data, swap)
+                           : type == Scalar::float64 ? ByteReader::decode<double>(data, swap)
+                                                     : decode_scalar(type, data, swap);
+      if (!std::isfinite(value))
+        in.fail_at(in.offset() + r * record + field.offset,
                    "vertex " + std::to_string(r) + " has a non-finite " + field.property->name);
-  in.skip(stride * element.count, "the vertex element");
+      if (out) out[r * field.stride] = value;
+    }
+  }
+  in.skip(record * element.count, "the vertex element");
+}
+
+/// Faces that are all triangles of 32-bit indices (13-byte records): decoded in one tight loop.
+/// False, with nothing consumed or stored, when they are not, or when an index is out of range
+/// (the caller's per-face loop then reports it).
+bool parse_uniform_triangles(ByteReader& in, std::int64_t count, bool swap, MeshBuilder& builder) {
+  constexpr std::size_t record = 13;
+  if (in.remaining_bytes() / record < static_cast<std::uint64_t>(count)) return false;
+  const char* base = in.here();
+  for (std::int64_t r = 0; r < count; ++r)
+    if (base[r * record] != 3) return false;
+  const auto limit = static_cast<std::uint32_t>(builder.vertex_count());
+  bool out_of_range = false;
+  if (builder.reads_faces()) {
+    auto& corners = builder.mesh.face_vertices;
+    auto& offsets = builder.mesh.face_offsets;
+    const std::size_t first_corner = corners.size(), first_face = offsets.size();
+    corners.resize(first_corner + 3 * count);
+    offsets.resize(first_face + count);
+    int* out = corners.data() + first_corner;
+    std::int64_t* ends = offsets.data() + first_face;
+    const std::int64_t start = static_cast<std::int64_t>(first_corner);
+    for (std::int64_t r = 0; r < count; ++r) {
+      const char* data = base + r * record + 1;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+        out_of_range |= index >= limit;
+        out[3 * r + k] = static_cast<int>(index);
+      }
+      ends[r] = start + 3 * (r + 1);
+    }
+    if (out_of_range) {
+      corners.resize(first_corner);
+      offsets.resize(first_face);
+    }
+  } else {
+    for (std::int64_t r = 0; r < count; ++r)
+      for (int k = 0; k < 3; ++k)
+        out_of_range |= ByteReader::decode<std::uint32_t>(base + r * record + 1 + 4 * k, swap) >= limit;
+  }
+  if (out_of_range) return false;
+  in.skip(record * count, "faces");
+  return true;
 }
 
 /// The common face element (only `list uchar int|uint vertex_indices`): a tight loop that
@@ -355,6 +423,7 @@ bool parse_simple_faces(ByteReader& in, const Element& element, MeshBuilder& bui
     return false;
   const bool swap = in.swap();
   const bool signed_count = property.count_type == Scalar::int8;
+  if (parse_uniform_triangles(in, element.count, swap, builder)) return true;
   for (std::int64_t r = 0; r < element.count; ++r) {
     const std::size_t start = in.offset();
     in.require(1, "a face size");

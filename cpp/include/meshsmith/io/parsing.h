@@ -91,14 +91,28 @@ inline bool parse_double(std::string_view token, double& value) {
   return value - value == 0.0;  // rejects inf and nan
 }
 
-/// Parses all of `token` as a decimal integer (a leading '+' is accepted). False otherwise.
+/// Parses all of `token` as a decimal integer (an optional sign, '+' included). False otherwise,
+/// and for values outside int64.
 inline bool parse_integer(std::string_view token, std::int64_t& value) {
   const char* first = token.data();
   const char* last = first + token.size();
-  if (first != last && *first == '+') ++first;
+  const bool negative = first != last && *first == '-';
+  if (first != last && (*first == '+' || *first == '-')) ++first;
   if (first == last) return false;
-  auto [end, error] = std::from_chars(first, last, value);
-  return error == std::errc() && end == last;
+  if (last - first > 18) {  // might overflow: let from_chars decide
+    if (*first == '-' || *first == '+') return false;  // a second sign
+    if (negative) --first;
+    auto [end, error] = std::from_chars(first, last, value);
+    return error == std::errc() && end == last;
+  }
+  std::int64_t result = 0;
+  for (; first != last; ++first) {
+    const unsigned digit = static_cast<unsigned>(*first) - '0';
+    if (digit > 9) return false;
+    result = result * 10 + digit;
+  }
+  value = negative ? -result : result;
+  return true;
 }
 
 /// Splits a line into whitespace-separated tokens.
