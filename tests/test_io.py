@@ -617,7 +617,34 @@ def test_write_errors(tmp_path):
         io.write_points(tmp_path / "p.xyz", V, V[:2])
     with pytest.raises(meshsmith.InputError, match="face 0 has 2 corners"):
         io.write_mesh(tmp_path / "p.obj", V, Polygons(np.array([0, 2]), np.array([0, 1])))
-    assert not (tmp_path / "m.ply").exists() and not (tmp_path / "p.obj").exists()
+    with pytest.raises(meshsmith.InputError, match="binary STL stores float32"):
+        io.write_mesh(tmp_path / "m.stl", V * 1e300, F)
+    with pytest.raises(meshsmith.InputError, match="STL file needs at least one face"):
+        io.write_mesh(tmp_path / "m.stl", V, np.zeros((0, 3), int))
+    assert not any(tmp_path.iterdir())  # nothing was written by a failed call
+
+
+def test_points_only_meshes_and_comments(tmp_path):
+    V, _ = closed_octahedron()
+    for name in ("v.obj", "v.ply", "v.off"):
+        io.write_mesh(tmp_path / name, V, np.zeros((0, 3), dtype=int))
+        V2, F2 = io.read_mesh(tmp_path / name)
+        np.testing.assert_array_equal(V2, V)
+        assert F2.shape == (0, 3)
+    (tmp_path / "c.off").write_text("# comment\nCOFF 4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n"
+                                     "0 1 0 0 0 255 255 # inline\n\n0 0 1 1 1 1 1\n4 0 1 2 3 0.5 0.5 0.5\n")
+    V, polygons = io.read_mesh(tmp_path / "c.off", triangulate=False)
+    assert V.shape == (4, 3) and polygons.to_list() == [[0, 1, 2, 3]]
+
+
+def test_polygon_attributes_from_flat_arrays(tmp_path):
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    polygons = Polygons.from_list([[0, 1, 2, 3]])
+    UV = V[:, :2].copy()
+    io.write_mesh(tmp_path / "q.obj", V, polygons, UV=UV, F_uv=np.array([0, 1, 2, 3]))
+    mesh = io.read_mesh_with_attributes(tmp_path / "q.obj", triangulate=False)
+    assert mesh.F_uv.to_list() == [[0, 1, 2, 3]]
+    np.testing.assert_array_equal(mesh.UV, UV)
 
 
 # --------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <system_error>
 
@@ -218,6 +219,14 @@ PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
 void write_mesh(const std::string& path, const PolygonMesh& mesh, const WriteOptions& options) {
   const Format format = resolve_format(path, options.format);
   check_writable(path, mesh);
+  if (options.binary && (format == Format::stl || format == Format::off)) {
+    const double largest = mesh.V.size() ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
+    if (largest > static_cast<double>(std::numeric_limits<float>::max()))
+      throw InputError(path + ": cannot write: binary " + format_name(format) +
+                       " stores float32 and V holds " + std::to_string(largest));
+  }
+  if (format == Format::stl && mesh.face_count() == 0)
+    throw InputError(path + ": cannot write: an STL file needs at least one face");
   std::string contents;
   switch (format) {
     case Format::obj: contents = format_obj(mesh); break;

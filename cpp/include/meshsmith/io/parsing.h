@@ -7,6 +7,7 @@
 /// exported because it is small and useful to C++ users writing their own readers.
 #include <meshsmith/core/errors.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
@@ -252,21 +253,20 @@ class ByteReader {
   bool swap_;
 };
 
-/// An output buffer for writers: text with exact numbers, and raw binary values.
+/// An output buffer for writers: text with exact numbers, and raw binary values. Appends are
+/// inlined copies into a buffer grown geometrically.
 class OutputBuffer {
  public:
-  void text(std::string_view s) { out_.append(s); }
-  void character(char c) { out_.push_back(c); }
+  void text(std::string_view s) { std::memcpy(room(s.size()), s.data(), s.size()); used_ += s.size(); }
+  void character(char c) { *room(1) = c; ++used_; }
   /// Shortest decimal form that reads back to exactly `value` (std::to_chars).
   void number(double value) {
-    char buffer[32];
-    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out_.append(buffer, end);
+    char* at = room(32);
+    used_ = std::to_chars(at, at + 32, value).ptr - data_.data();
   }
   void number(std::int64_t value) {
-    char buffer[24];
-    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out_.append(buffer, end);
+    char* at = room(24);
+    used_ = std::to_chars(at, at + 24, value).ptr - data_.data();
   }
   void number(int value) { number(static_cast<std::int64_t>(value)); }
   /// Appends the bytes of `value`, byte-swapped when `big_endian` differs from the host.
@@ -276,15 +276,28 @@ class OutputBuffer {
     std::memcpy(raw, &value, sizeof(T));
     if (big_endian != ByteReader::host_is_big_endian())
       for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
-    out_.append(raw, sizeof(T));
+    std::memcpy(room(sizeof(T)), raw, sizeof(T));
+    used_ += sizeof(T);
   }
-  void reserve(std::size_t bytes) { out_.reserve(bytes); }
-  const std::string& contents() const { return out_; }
+  /// Makes room for `bytes` more bytes in one allocation.
+  void reserve(std::size_t bytes) { room(bytes); }
+  std::string_view contents() const { return {data_.data(), used_}; }
   /// Moves the buffer out (the OutputBuffer is empty afterwards).
-  std::string take() { return std::move(out_); }
+  std::string take() {
+    data_.resize(used_);
+    used_ = 0;
+    return std::move(data_);
+  }
 
  private:
-  std::string out_;
+  /// Pointer to the end of the contents, with at least `bytes` writable bytes after it.
+  char* room(std::size_t bytes) {
+    if (data_.size() - used_ < bytes) data_.resize(std::max(2 * data_.size(), used_ + bytes));
+    return data_.data() + used_;
+  }
+
+  std::string data_;
+  std::size_t used_ = 0;
 };
 
 }  // namespace meshsmith::io
