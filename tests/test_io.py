@@ -713,3 +713,61 @@ def test_fuzz_mutated_valid_files(tmp_path, kind, data):
     path = tmp_path / f"mutated.{ext}"
     path.write_bytes(bytes(contents))
     check_reader_result(path, ext)
+
+
+# --------------------------------------------------------------------------------------------
+# Large OBJ files are parsed in parallel pieces: same result, same errors as one piece
+
+def large_obj_text(side=180, relative=False):
+    """A side x side grid as OBJ (> 4 MB) with vt and vn, faces after all vertices."""
+    x, y = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side))
+    V = np.column_stack([x.ravel(), y.ravel(), np.sin(7 * x.ravel()) * 0.1 + 1 / 3])
+    i = np.arange(side - 1)
+    a = (i[:, None] * side + i[None, :]).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + side + 1]),
+                        np.column_stack([a, a + side + 1, a + side])])
+    lines = [f"v {p[0]!r} {p[1]!r} {p[2]!r}" for p in V.tolist()]
+    lines += [f"vt {p[0]!r} {p[1]!r}" for p in V.tolist()]
+    lines += ["vn 0 0 1"]
+    n = len(V)
+    for f in F.tolist():
+        if relative:
+            lines.append("f " + " ".join(f"{c - n}/{c - n}/-1" for c in f))
+        else:
+            lines.append("f " + " ".join(f"{c + 1}/{c + 1}/1" for c in f))
+    return "\n".join(lines) + "\n", V, F
+
+
+def test_large_obj_parallel_pieces_agree(tmp_path):
+    text, V, F = large_obj_text()
+    assert len(text) > 4 << 20
+    (tmp_path / "big.obj").write_text(text)
+    mesh = io.read_mesh_with_attributes(tmp_path / "big.obj")
+    np.testing.assert_array_equal(mesh.V, V)
+    np.testing.assert_array_equal(mesh.F, F)
+    np.testing.assert_array_equal(mesh.UV, V[:, :2])
+    np.testing.assert_array_equal(mesh.F_uv, F)
+    np.testing.assert_array_equal(mesh.F_normal, np.zeros_like(F))
+    igl = pytest.importorskip("igl")
+    V_igl, F_igl = igl.read_triangle_mesh(str(tmp_path / "big.obj"))
+    np.testing.assert_array_equal(mesh.V, V_igl)
+    np.testing.assert_array_equal(mesh.F, F_igl)
+    # Relative indices need the counts of earlier pieces: same result.
+    text_relative, _, _ = large_obj_text(relative=True)
+    (tmp_path / "relative.obj").write_text(text_relative)
+    relative = io.read_mesh_with_attributes(tmp_path / "relative.obj")
+    np.testing.assert_array_equal(relative.F, F)
+    np.testing.assert_array_equal(relative.F_uv, F)
+
+
+def test_large_obj_errors_keep_true_line_numbers(tmp_path):
+    text, V, F = large_obj_text()
+    lines = text.splitlines()
+    bad = list(lines)
+    bad[len(bad) * 3 // 4] = "v 1 2 oops"
+    (tmp_path / "bad.obj").write_text("\n".join(bad) + "\n")
+    expect_error(tmp_path / "bad.obj", rf"line {len(bad) * 3 // 4 + 1}: 'oops' is not a finite number")
+    far = list(lines)
+    far[-1] = f"f 1 2 {len(V) + 5}"
+    (tmp_path / "far.obj").write_text("\n".join(far) + "\n")
+    expect_error(tmp_path / "far.obj", rf"line {len(far)}: vertex index {len(V) + 5} out of range")
