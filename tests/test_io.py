@@ -658,11 +658,15 @@ def sample_files():
                "boff": b"OFF BINARY\n" + struct.pack(">3i", 4, 1, 0) + struct.pack(">12f", *range(12))
                + struct.pack(">5i", 3, 0, 1, 2, 0),
                "tply": build_ply("binary_little_endian", V, F.tolist(), strips=[[0, 1, 2, -1, 3, 4, 5]]),
-               "xyz": b"1 2 3 0 0 1\n4 5 6 0 1 0\n"}
+               "xyz": b"1 2 3 0 0 1\n4 5 6 0 1 0\n",
+               "objattr": (OBJ_TEXT + "vt 0 0\nvt 1 0\nvn 0 0 1\nf -4/1/1 -3/2/1 -2/-1/-1 -1//1\n"
+                           "f 1/1 2/2 3/1\n").encode(),
+               "coff": b"COFF\n4 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n0 0 1 1 1 1 1\n4 0 1 2 3\n"}
     return samples
 
 
-EXTENSION = {"bply": "ply", "beply": "ply", "bstl": "stl", "boff": "off", "tply": "ply"}
+EXTENSION = {"bply": "ply", "beply": "ply", "bstl": "stl", "boff": "off", "tply": "ply",
+             "objattr": "obj", "coff": "off"}
 
 
 def check_reader_result(path, ext):
@@ -679,6 +683,14 @@ def check_reader_result(path, ext):
     assert F.ndim == 2 and F.shape[1] == 3
     if len(F):
         assert F.min() >= 0 and F.max() < len(V)
+    # The other read modes accept the same file and agree.
+    mesh = io.read_mesh_with_attributes(path, triangulate=False)
+    np.testing.assert_array_equal(mesh.V, V)
+    assert np.all(mesh.F.sizes >= 3) and mesh.F.offsets[-1] == len(mesh.F.indices)
+    np.testing.assert_array_equal(mesh.F.triangulate(), F)
+    for values, corners in ((mesh.UV, mesh.F_uv), (mesh.N, mesh.F_normal)):
+        if corners is not None:
+            assert np.all((corners.indices >= -1) & (corners.indices < len(values)))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
