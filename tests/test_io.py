@@ -532,6 +532,7 @@ TEXT_CASES = [  # (file name, contents, message pattern)
     ("neg.ply", PLY_ASCII.replace("vertex 4", "vertex -4"), r"line 3: negative element count"),
     ("trunc.ply", PLY_ASCII[:-8], r"line 14: unexpected end of file in element 'face' \(1 of 2 records read\)"),
     ("range.ply", PLY_ASCII.replace("3 0 2 3", "3 0 2 7"), r"line 15: face 1: vertex index 7 outside"),
+    ("hugeidx.ply", PLY_ASCII.replace("3 0 2 3", "3 0 2 1e300"), r"line 15: face 1: vertex index 1e\+300 outside"),
     ("garbage.ply", PLY_ASCII.replace("1 0 0\n", "1 O 0\n"), r"line 11: 'O' is not a finite number"),
     ("extra.ply", PLY_ASCII.replace("0 0 1\n", "0 0 1 5\n"), r"line 13: vertex 3: more values"),
     ("type.ply", PLY_ASCII.replace("float x", "flaot x"), r"line 4: unknown PLY type 'flaot'"),

@@ -295,7 +295,9 @@ class MeshBuilder {
   std::int64_t vertex_count() const { return vertex_count_; }
 
   std::string index_error(double value) const {
-    return "vertex index " + std::to_string(static_cast<std::int64_t>(value)) + " outside [0, " +
+    OutputBuffer text;  // exact for integers, and no out-of-range cast for huge ASCII values
+    text.number(value);
+    return "vertex index " + std::string(text.contents()) + " outside [0, " +
            std::to_string(vertex_count_) + ")";
   }
 
