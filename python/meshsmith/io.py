@@ -116,11 +116,11 @@ def _format(format):
 def _resolved_format(path, format) -> str:
     if format is not None:
         return _format(format)
-    return os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+    return os.path.splitext(os.fsdecode(path))[1].lstrip(".").lower()
 
 
 def _read(path, triangulate, format, with_uv, with_normals) -> MeshWithAttributes:
-    out = _core.read_mesh(os.fspath(path), _format(format), bool(triangulate), with_uv,
+    out = _core.read_mesh(os.fsdecode(path), _format(format), bool(triangulate), with_uv,
                           with_normals)
     if triangulate:
         return MeshWithAttributes(out["V"], out["F"], out["UV"], out["F_uv"], out["N"],
@@ -200,7 +200,7 @@ def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = N
     if offsets is not None:
         F_uv = _corner_column(F_uv) if F_uv is not None else None
         F_normal = _corner_column(F_normal) if F_normal is not None else None
-    _core.write_mesh(os.fspath(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
+    _core.write_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
                      bool(binary), bool(big_endian))
 
 
@@ -212,7 +212,7 @@ def read_points(path, *, format: str | None = None):
     Returns (P, N): P (n, 3) float64, N (n, 3) float64 or None when the file has no normals.
     Raises InputError for any bad file.
     """
-    return _core.read_points(os.fspath(path), _format(format))
+    return _core.read_points(os.fsdecode(path), _format(format))
 
 
 def write_points(path, P, N=None, *, format: str | None = None, binary: bool | None = None,
@@ -225,4 +225,4 @@ def write_points(path, P, N=None, *, format: str | None = None, binary: bool | N
     fmt = _resolved_format(path, format)
     if binary is None:
         binary = _BINARY_BY_DEFAULT.get(fmt, False)
-    _core.write_points(os.fspath(path), P, N, _format(format), bool(binary), bool(big_endian))
+    _core.write_points(os.fsdecode(path), P, N, _format(format), bool(binary), bool(big_endian))
