@@ -53,14 +53,14 @@ void check_finite(const std::string& path, const Matrix& matrix, const char* nam
 void check_corner_indices(const std::string& path, const PolygonMesh& mesh,
                           const std::vector<int>& corners, Eigen::Index count, const char* name,
                           bool allow_missing) {
-  for (std::int64_t f = 0; f < mesh.face_count(); ++f)
-    for (std::int64_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
-      const int index = corners[k];
-      if ((index < 0 && !(allow_missing && index == -1)) || index >= count)
-        throw InputError(path + ": cannot write: face " + std::to_string(f) + " has " + name +
-                         " index " + std::to_string(index) + " outside [0, " +
-                         std::to_string(count) + ")");
-    }
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const int index = corners[k];
+    if ((index >= 0 && index < count) || (allow_missing && index == -1)) continue;
+    const auto face = std::upper_bound(mesh.face_offsets.begin(), mesh.face_offsets.end(),
+                                       static_cast<std::int64_t>(k)) - mesh.face_offsets.begin() - 1;
+    throw InputError(path + ": cannot write: face " + std::to_string(face) + " has " + name +
+                     " index " + std::to_string(index) + " outside [0, " + std::to_string(count) + ")");
+  }
 }
 
 /// Everything a writer relies on: finite values, a well-formed offset array, indices in range.

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <climits>
-#include <utility>
 #include <cmath>
+#include <utility>
 
 namespace meshsmith::io {
 
@@ -609,32 +609,51 @@ std::string format_ply(const PolygonMesh& mesh, bool binary, bool big_endian) {
                          : "\nproperty list uchar int vertex_indices\n");
   }
   out.text("end_header\n");
+  if (binary) {
+    // Vertex records and face records are laid out in place, a block at a time.
+    const bool swap = big_endian != ByteReader::host_is_big_endian();
+    const int columns = normals ? 6 : 3;
+    char* at = out.extend(static_cast<std::size_t>(mesh.V.rows()) * columns * 8);
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+      for (int c = 0; c < columns; ++c, at += 8) {
+        const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
+        std::memcpy(at, &value, 8);
+        if (swap) std::reverse(at, at + 8);
+      }
+    const std::size_t count_bytes = wide_counts ? 4 : 1;
+    at = out.extend(mesh.face_count() * count_bytes + mesh.face_vertices.size() * 4);
+    for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
+      const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+      const auto size = static_cast<std::int32_t>(end - begin);
+      if (wide_counts) {
+        std::memcpy(at, &size, 4);
+        if (swap) std::reverse(at, at + 4);
+      } else {
+        *at = static_cast<char>(static_cast<std::uint8_t>(size));
+      }
+      at += count_bytes;
+      std::memcpy(at, mesh.face_vertices.data() + begin, 4 * static_cast<std::size_t>(size));
+      if (swap)
+        for (std::int32_t k = 0; k < size; ++k) std::reverse(at + 4 * k, at + 4 * k + 4);
+      at += 4 * static_cast<std::size_t>(size);
+    }
+    return out.take();
+  }
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
     for (int c = 0; c < (normals ? 6 : 3); ++c) {
-      const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
-      if (binary) {
-        out.binary<double>(value, big_endian);
-      } else {
-        if (c > 0) out.character(' ');
-        out.number(value);
-      }
+      if (c > 0) out.character(' ');
+      out.number(c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3));
     }
-    if (!binary) out.character('\n');
+    out.character('\n');
   }
   for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
     const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-    if (binary) {
-      if (wide_counts) out.binary<std::int32_t>(static_cast<std::int32_t>(end - begin), big_endian);
-      else out.binary<std::uint8_t>(static_cast<std::uint8_t>(end - begin), big_endian);
-      for (std::int64_t k = begin; k < end; ++k) out.binary<std::int32_t>(mesh.face_vertices[k], big_endian);
-    } else {
-      out.number(end - begin);
-      for (std::int64_t k = begin; k < end; ++k) {
-        out.character(' ');
-        out.number(mesh.face_vertices[k]);
-      }
-      out.character('\n');
+    out.number(end - begin);
+    for (std::int64_t k = begin; k < end; ++k) {
+      out.character(' ');
+      out.number(mesh.face_vertices[k]);
     }
+    out.character('\n');
   }
   return out.take();
 }

@@ -279,6 +279,13 @@ class OutputBuffer {
     std::memcpy(room(sizeof(T)), raw, sizeof(T));
     used_ += sizeof(T);
   }
+  /// Appends `bytes` bytes for the caller to fill through the returned pointer (valid until the
+  /// next append).
+  char* extend(std::size_t bytes) {
+    char* at = room(bytes);
+    used_ += bytes;
+    return at;
+  }
   /// Makes room for `bytes` more bytes in one allocation.
   void reserve(std::size_t bytes) { room(bytes); }
   std::string_view contents() const { return {data_.data(), used_}; }
