@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 import meshsmith
 from meshsmith import io
@@ -598,6 +599,8 @@ def test_missing_empty_directory_and_extension(tmp_path):
     (tmp_path / "points.xyz").write_text("1 2 3\n")
     expect_error(tmp_path / "points.xyz", "XYZ files hold point clouds")
     expect_error(tmp_path / "points.obj", "read_points reads XYZ and PLY", io.read_points)
+    if os.path.exists("/dev/null"):
+        expect_error(Path("/dev/null"), "not a regular file", format="obj")
 
 
 def test_write_errors(tmp_path):
@@ -726,6 +729,33 @@ def test_fuzz_mutated_valid_files(tmp_path, kind, data):
     path = tmp_path / f"mutated.{ext}"
     path.write_bytes(bytes(contents))
     check_reader_result(path, ext)
+
+
+finite_doubles = st.floats(allow_nan=False, allow_infinity=False, width=64)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(V=hnp.arrays(np.float64, st.tuples(st.integers(3, 12), st.just(3)), elements=finite_doubles),
+       data=st.data(),
+       mode=st.sampled_from([("obj", {}), ("off", {"binary": False}), ("ply", {"binary": False}),
+                             ("ply", {}), ("ply", {"big_endian": True}), ("stl", {"binary": False})]))
+def test_round_trip_property(tmp_path, V, data, mode):
+    """Any finite doubles and any polygons survive a text or binary PLY round trip exactly."""
+    ext, kwargs = mode
+    n = len(V)
+    faces = data.draw(st.lists(st.lists(st.integers(0, n - 1), min_size=3, max_size=6),
+                               min_size=1, max_size=10))
+    if ext == "stl":  # STL stores triangles and merges equal points: compare corner positions
+        F = np.array([face[:3] for face in faces])
+        io.write_mesh(tmp_path / "p.stl", V, F, **kwargs)
+        V2, F2 = io.read_mesh(tmp_path / "p.stl")
+        np.testing.assert_array_equal(V2[F2], np.where(V[F] == 0, 0.0, V[F]))  # -0 merges with 0
+        return
+    polygons = Polygons.from_list(faces)
+    io.write_mesh(tmp_path / f"p.{ext}", V, polygons, **kwargs)
+    V2, polygons2 = io.read_mesh(tmp_path / f"p.{ext}", triangulate=False)
+    np.testing.assert_array_equal(V2, V)
+    assert polygons2.to_list() == faces
 
 
 # --------------------------------------------------------------------------------------------
