@@ -814,3 +814,31 @@ def test_large_obj_errors_keep_true_line_numbers(tmp_path):
     far[-1] = f"f 1 2 {len(V) + 5}"
     (tmp_path / "far.obj").write_text("\n".join(far) + "\n")
     expect_error(tmp_path / "far.obj", rf"line {len(far)}: vertex index {len(V) + 5} out of range")
+
+
+def test_number_parsing_is_exact(tmp_path):
+    """Every decimal form a file may hold reads as Python's float() of it (correct rounding)."""
+    rng = np.random.default_rng(9)
+    tokens = []
+    for _ in range(6000):
+        kind = rng.integers(0, 6)
+        if kind == 0:  # short decimals as scanners write them
+            tokens.append(f"{rng.uniform(-1000, 1000):.{rng.integers(0, 9)}f}")
+        elif kind == 1:  # shortest round trip of random doubles
+            tokens.append(repr(float(rng.normal() * 10.0 ** rng.integers(-30, 30))))
+        elif kind == 2:  # scientific with awkward exponents
+            tokens.append(f"{rng.uniform(1, 10):.{rng.integers(1, 17)}e}".replace("e+0", "E").replace("e-0", "e-"))
+        elif kind == 3:  # long digit strings (beyond 19 digits, or 2^53)
+            tokens.append("".join(str(d) for d in rng.integers(0, 10, rng.integers(15, 25))) + "." + "9" * int(rng.integers(0, 5)))
+        elif kind == 4:  # forms with signs, leading dots, trailing dots, leading zeros
+            tokens.append(str(rng.choice(["+", "-", ""])) + str(rng.choice([".5", "1.", "007.25", "0.000001234", "9007199254740993", "123456789012345678", "1e22", "1e23", "8.98846567431158e307", "4.9e-324", "2.2250738585072011e-308"])))
+        else:  # halfway cases of binary rounding
+            tokens.append(repr(float(rng.integers(1, 2**53))) [:-2] + "." + "5" * int(rng.integers(1, 3)))
+    while len(tokens) % 3:
+        tokens.append("0")
+    lines = [" ".join(tokens[i:i + 3]) for i in range(0, len(tokens), 3)]
+    (tmp_path / "numbers.xyz").write_text("\n".join(lines) + "\n")
+    P, _ = io.read_points(tmp_path / "numbers.xyz")
+    expected = np.array([float(t) for t in tokens]).reshape(-1, 3)
+    assert np.array_equal(P, expected)
+    assert np.array_equal(np.signbit(P), np.signbit(expected))

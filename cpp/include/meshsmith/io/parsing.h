@@ -81,8 +81,52 @@ inline std::string quoted(std::string_view token) {
   return "'" + std::string(token.substr(0, 40)) + (token.size() > 40 ? "...'" : "'");
 }
 
+/// Clinger's fast path: a decimal with at most 19 digits whose digits form an integer m <= 2^53
+/// and whose power of ten e is within [-22, 22] is m * 10^e or m / 10^-e, both exactly
+/// representable, so one correctly rounded IEEE operation gives the correctly rounded value.
+/// False (nothing parsed) for anything else; the caller then uses std::from_chars.
+inline bool parse_simple_decimal(const char* first, const char* last, double& value) {
+  static constexpr double powers[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                      1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const bool negative = first != last && *first == '-';
+  if (negative) ++first;
+  std::uint64_t mantissa = 0;
+  int digits = 0, exponent = 0;
+  const char* p = first;
+  for (; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p, ++digits)
+    mantissa = mantissa * 10 + static_cast<unsigned>(*p - '0');
+  const int integer_digits = digits;
+  if (p != last && *p == '.') {
+    for (++p; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p, ++digits, --exponent)
+      mantissa = mantissa * 10 + static_cast<unsigned>(*p - '0');
+    if (digits == integer_digits && integer_digits == 0) return false;  // "." alone
+  }
+  if (digits == 0 || digits > 19) return false;
+  if (p != last && (*p == 'e' || *p == 'E')) {
+    ++p;
+    const bool negative_exponent = p != last && *p == '-';
+    if (p != last && (*p == '-' || *p == '+')) ++p;
+    if (p == last) return false;
+    int written = 0;
+    for (; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p) {
+      written = written * 10 + (*p - '0');
+      if (written > 1000) return false;
+    }
+    exponent += negative_exponent ? -written : written;
+  }
+  if (p != last || mantissa > (std::uint64_t(1) << 53) || exponent < -22 || exponent > 22)
+    return false;
+  const double m = static_cast<double>(mantissa);
+  const double result = exponent < 0 ? m / powers[-exponent] : m * powers[exponent];
+  value = negative ? -result : result;
+  return true;
+}
+
 /// Parses all of `token` as a finite double (a leading '+' is accepted). False otherwise.
+/// Exact: the correctly rounded double of the decimal, as std::from_chars gives.
 inline bool parse_double(std::string_view token, double& value) {
+  if (parse_simple_decimal(token.data(), token.data() + token.size(), value)) return true;
   const char* first = token.data();
   const char* last = first + token.size();
   if (first != last && *first == '+') ++first;
