@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
 import meshsmith
 from meshsmith import io
@@ -515,6 +516,9 @@ TEXT_CASES = [  # (file name, contents, message pattern)
     ("zero.obj", OBJ_TEXT + "f 0 1 2\n", r"line 7: vertex index 0"),
     ("negative.obj", OBJ_TEXT + "f -1 -2 -9\n", r"line 7: vertex index -9 refers before"),
     ("corner.obj", OBJ_TEXT + "f 1/x 2 3\n", r"line 7: .*texture coordinate index"),
+    ("overflow.obj", OBJ_TEXT + "f 1 2 99999999999999999999\n", r"line 7: '99999999999999999999' is not a face corner"),
+    ("bigindex.obj", OBJ_TEXT + "f 1 2 9999999999\n", r"line 7: vertex index 9999999999 is too large"),
+    ("sign.obj", OBJ_TEXT + "f 1 2 +-3\n", r"line 7: '\+-3' is not a face corner"),
     ("noverts.obj", "# nothing\n", r"no vertices"),
     ("trunc.off", OFF_TEXT[:-4], r"line 8: face 1 has fewer than the 3 indices"),
     ("eof.off", OFF_TEXT[:-8] + "#" * 20 + "\n", r"line 8: unexpected end of file: 1 of 2 faces"),
@@ -529,6 +533,7 @@ TEXT_CASES = [  # (file name, contents, message pattern)
     ("neg.ply", PLY_ASCII.replace("vertex 4", "vertex -4"), r"line 3: negative element count"),
     ("trunc.ply", PLY_ASCII[:-8], r"line 14: unexpected end of file in element 'face' \(1 of 2 records read\)"),
     ("range.ply", PLY_ASCII.replace("3 0 2 3", "3 0 2 7"), r"line 15: face 1: vertex index 7 outside"),
+    ("hugeidx.ply", PLY_ASCII.replace("3 0 2 3", "3 0 2 1e300"), r"line 15: face 1: vertex index 1e\+300 outside"),
     ("garbage.ply", PLY_ASCII.replace("1 0 0\n", "1 O 0\n"), r"line 11: 'O' is not a finite number"),
     ("extra.ply", PLY_ASCII.replace("0 0 1\n", "0 0 1 5\n"), r"line 13: vertex 3: more values"),
     ("type.ply", PLY_ASCII.replace("float x", "flaot x"), r"line 4: unknown PLY type 'flaot'"),
@@ -594,6 +599,8 @@ def test_missing_empty_directory_and_extension(tmp_path):
     (tmp_path / "points.xyz").write_text("1 2 3\n")
     expect_error(tmp_path / "points.xyz", "XYZ files hold point clouds")
     expect_error(tmp_path / "points.obj", "read_points reads XYZ and PLY", io.read_points)
+    if os.path.exists("/dev/null"):
+        expect_error(Path("/dev/null"), "not a regular file", format="obj")
 
 
 def test_write_errors(tmp_path):
@@ -614,7 +621,34 @@ def test_write_errors(tmp_path):
         io.write_points(tmp_path / "p.xyz", V, V[:2])
     with pytest.raises(meshsmith.InputError, match="face 0 has 2 corners"):
         io.write_mesh(tmp_path / "p.obj", V, Polygons(np.array([0, 2]), np.array([0, 1])))
-    assert not (tmp_path / "m.ply").exists() and not (tmp_path / "p.obj").exists()
+    with pytest.raises(meshsmith.InputError, match="binary STL stores float32"):
+        io.write_mesh(tmp_path / "m.stl", V * 1e300, F)
+    with pytest.raises(meshsmith.InputError, match="STL file needs at least one face"):
+        io.write_mesh(tmp_path / "m.stl", V, np.zeros((0, 3), int))
+    assert not any(tmp_path.iterdir())  # nothing was written by a failed call
+
+
+def test_points_only_meshes_and_comments(tmp_path):
+    V, _ = closed_octahedron()
+    for name in ("v.obj", "v.ply", "v.off"):
+        io.write_mesh(tmp_path / name, V, np.zeros((0, 3), dtype=int))
+        V2, F2 = io.read_mesh(tmp_path / name)
+        np.testing.assert_array_equal(V2, V)
+        assert F2.shape == (0, 3)
+    (tmp_path / "c.off").write_text("# comment\nCOFF 4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n"
+                                     "0 1 0 0 0 255 255 # inline\n\n0 0 1 1 1 1 1\n4 0 1 2 3 0.5 0.5 0.5\n")
+    V, polygons = io.read_mesh(tmp_path / "c.off", triangulate=False)
+    assert V.shape == (4, 3) and polygons.to_list() == [[0, 1, 2, 3]]
+
+
+def test_polygon_attributes_from_flat_arrays(tmp_path):
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    polygons = Polygons.from_list([[0, 1, 2, 3]])
+    UV = V[:, :2].copy()
+    io.write_mesh(tmp_path / "q.obj", V, polygons, UV=UV, F_uv=np.array([0, 1, 2, 3]))
+    mesh = io.read_mesh_with_attributes(tmp_path / "q.obj", triangulate=False)
+    assert mesh.F_uv.to_list() == [[0, 1, 2, 3]]
+    np.testing.assert_array_equal(mesh.UV, UV)
 
 
 # --------------------------------------------------------------------------------------------
@@ -628,11 +662,15 @@ def sample_files():
                "boff": b"OFF BINARY\n" + struct.pack(">3i", 4, 1, 0) + struct.pack(">12f", *range(12))
                + struct.pack(">5i", 3, 0, 1, 2, 0),
                "tply": build_ply("binary_little_endian", V, F.tolist(), strips=[[0, 1, 2, -1, 3, 4, 5]]),
-               "xyz": b"1 2 3 0 0 1\n4 5 6 0 1 0\n"}
+               "xyz": b"1 2 3 0 0 1\n4 5 6 0 1 0\n",
+               "objattr": (OBJ_TEXT + "vt 0 0\nvt 1 0\nvn 0 0 1\nf -4/1/1 -3/2/1 -2/-1/-1 -1//1\n"
+                           "f 1/1 2/2 3/1\n").encode(),
+               "coff": b"COFF\n4 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n0 0 1 1 1 1 1\n4 0 1 2 3\n"}
     return samples
 
 
-EXTENSION = {"bply": "ply", "beply": "ply", "bstl": "stl", "boff": "off", "tply": "ply"}
+EXTENSION = {"bply": "ply", "beply": "ply", "bstl": "stl", "boff": "off", "tply": "ply",
+             "objattr": "obj", "coff": "off"}
 
 
 def check_reader_result(path, ext):
@@ -649,6 +687,14 @@ def check_reader_result(path, ext):
     assert F.ndim == 2 and F.shape[1] == 3
     if len(F):
         assert F.min() >= 0 and F.max() < len(V)
+    # The other read modes accept the same file and agree.
+    mesh = io.read_mesh_with_attributes(path, triangulate=False)
+    np.testing.assert_array_equal(mesh.V, V)
+    assert np.all(mesh.F.sizes >= 3) and mesh.F.offsets[-1] == len(mesh.F.indices)
+    np.testing.assert_array_equal(mesh.F.triangulate(), F)
+    for values, corners in ((mesh.UV, mesh.F_uv), (mesh.N, mesh.F_normal)):
+        if corners is not None:
+            assert np.all((corners.indices >= -1) & (corners.indices < len(values)))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -683,3 +729,116 @@ def test_fuzz_mutated_valid_files(tmp_path, kind, data):
     path = tmp_path / f"mutated.{ext}"
     path.write_bytes(bytes(contents))
     check_reader_result(path, ext)
+
+
+finite_doubles = st.floats(allow_nan=False, allow_infinity=False, width=64)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(V=hnp.arrays(np.float64, st.tuples(st.integers(3, 12), st.just(3)), elements=finite_doubles),
+       data=st.data(),
+       mode=st.sampled_from([("obj", {}), ("off", {"binary": False}), ("ply", {"binary": False}),
+                             ("ply", {}), ("ply", {"big_endian": True}), ("stl", {"binary": False})]))
+def test_round_trip_property(tmp_path, V, data, mode):
+    """Any finite doubles and any polygons survive a text or binary PLY round trip exactly."""
+    ext, kwargs = mode
+    n = len(V)
+    faces = data.draw(st.lists(st.lists(st.integers(0, n - 1), min_size=3, max_size=6),
+                               min_size=1, max_size=10))
+    if ext == "stl":  # STL stores triangles and merges equal points: compare corner positions
+        F = np.array([face[:3] for face in faces])
+        io.write_mesh(tmp_path / "p.stl", V, F, **kwargs)
+        V2, F2 = io.read_mesh(tmp_path / "p.stl")
+        np.testing.assert_array_equal(V2[F2], np.where(V[F] == 0, 0.0, V[F]))  # -0 merges with 0
+        return
+    polygons = Polygons.from_list(faces)
+    io.write_mesh(tmp_path / f"p.{ext}", V, polygons, **kwargs)
+    V2, polygons2 = io.read_mesh(tmp_path / f"p.{ext}", triangulate=False)
+    np.testing.assert_array_equal(V2, V)
+    assert polygons2.to_list() == faces
+
+
+# --------------------------------------------------------------------------------------------
+# Large OBJ files are parsed in parallel pieces: same result, same errors as one piece
+
+def large_obj_text(side=180, relative=False):
+    """A side x side grid as OBJ (> 4 MB) with vt and vn, faces after all vertices."""
+    x, y = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side))
+    V = np.column_stack([x.ravel(), y.ravel(), np.sin(7 * x.ravel()) * 0.1 + 1 / 3])
+    i = np.arange(side - 1)
+    a = (i[:, None] * side + i[None, :]).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + side + 1]),
+                        np.column_stack([a, a + side + 1, a + side])])
+    lines = [f"v {p[0]!r} {p[1]!r} {p[2]!r}" for p in V.tolist()]
+    lines += [f"vt {p[0]!r} {p[1]!r}" for p in V.tolist()]
+    lines += ["vn 0 0 1"]
+    n = len(V)
+    for f in F.tolist():
+        if relative:
+            lines.append("f " + " ".join(f"{c - n}/{c - n}/-1" for c in f))
+        else:
+            lines.append("f " + " ".join(f"{c + 1}/{c + 1}/1" for c in f))
+    return "\n".join(lines) + "\n", V, F
+
+
+def test_large_obj_parallel_pieces_agree(tmp_path):
+    text, V, F = large_obj_text()
+    assert len(text) > 4 << 20
+    (tmp_path / "big.obj").write_text(text)
+    mesh = io.read_mesh_with_attributes(tmp_path / "big.obj")
+    np.testing.assert_array_equal(mesh.V, V)
+    np.testing.assert_array_equal(mesh.F, F)
+    np.testing.assert_array_equal(mesh.UV, V[:, :2])
+    np.testing.assert_array_equal(mesh.F_uv, F)
+    np.testing.assert_array_equal(mesh.F_normal, np.zeros_like(F))
+    igl = pytest.importorskip("igl")
+    V_igl, F_igl = igl.read_triangle_mesh(str(tmp_path / "big.obj"))
+    np.testing.assert_array_equal(mesh.V, V_igl)
+    np.testing.assert_array_equal(mesh.F, F_igl)
+    # Relative indices need the counts of earlier pieces: same result.
+    text_relative, _, _ = large_obj_text(relative=True)
+    (tmp_path / "relative.obj").write_text(text_relative)
+    relative = io.read_mesh_with_attributes(tmp_path / "relative.obj")
+    np.testing.assert_array_equal(relative.F, F)
+    np.testing.assert_array_equal(relative.F_uv, F)
+
+
+def test_large_obj_errors_keep_true_line_numbers(tmp_path):
+    text, V, F = large_obj_text()
+    lines = text.splitlines()
+    bad = list(lines)
+    bad[len(bad) * 3 // 4] = "v 1 2 oops"
+    (tmp_path / "bad.obj").write_text("\n".join(bad) + "\n")
+    expect_error(tmp_path / "bad.obj", rf"line {len(bad) * 3 // 4 + 1}: 'oops' is not a finite number")
+    far = list(lines)
+    far[-1] = f"f 1 2 {len(V) + 5}"
+    (tmp_path / "far.obj").write_text("\n".join(far) + "\n")
+    expect_error(tmp_path / "far.obj", rf"line {len(far)}: vertex index {len(V) + 5} out of range")
+
+
+def test_number_parsing_is_exact(tmp_path):
+    """Every decimal form a file may hold reads as Python's float() of it (correct rounding)."""
+    rng = np.random.default_rng(9)
+    tokens = []
+    for _ in range(6000):
+        kind = rng.integers(0, 6)
+        if kind == 0:  # short decimals as scanners write them
+            tokens.append(f"{rng.uniform(-1000, 1000):.{rng.integers(0, 9)}f}")
+        elif kind == 1:  # shortest round trip of random doubles
+            tokens.append(repr(float(rng.normal() * 10.0 ** rng.integers(-30, 30))))
+        elif kind == 2:  # scientific with awkward exponents
+            tokens.append(f"{rng.uniform(1, 10):.{rng.integers(1, 17)}e}".replace("e+0", "E").replace("e-0", "e-"))
+        elif kind == 3:  # long digit strings (beyond 19 digits, or 2^53)
+            tokens.append("".join(str(d) for d in rng.integers(0, 10, rng.integers(15, 25))) + "." + "9" * int(rng.integers(0, 5)))
+        elif kind == 4:  # forms with signs, leading dots, trailing dots, leading zeros
+            tokens.append(str(rng.choice(["+", "-", ""])) + str(rng.choice([".5", "1.", "007.25", "0.000001234", "9007199254740993", "123456789012345678", "1e22", "1e23", "8.98846567431158e307", "4.9e-324", "2.2250738585072011e-308"])))
+        else:  # halfway cases of binary rounding
+            tokens.append(repr(float(rng.integers(1, 2**53))) [:-2] + "." + "5" * int(rng.integers(1, 3)))
+    while len(tokens) % 3:
+        tokens.append("0")
+    lines = [" ".join(tokens[i:i + 3]) for i in range(0, len(tokens), 3)]
+    (tmp_path / "numbers.xyz").write_text("\n".join(lines) + "\n")
+    P, _ = io.read_points(tmp_path / "numbers.xyz")
+    expected = np.array([float(t) for t in tokens]).reshape(-1, 3)
+    assert np.array_equal(P, expected)
+    assert np.array_equal(np.signbit(P), np.signbit(expected))

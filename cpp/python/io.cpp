@@ -16,6 +16,14 @@ io::Format format_argument(const py::object& format) {
   return io::format_from_name(py::str(format));
 }
 
+/// Fan triangles of polygons (offsets, corners) as int64; one pass when all are triangles.
+Int64Triangles triangles_int64(const std::vector<std::int64_t>& offsets, const std::vector<int>& corners) {
+  const auto faces = static_cast<Eigen::Index>(offsets.size()) - 1;
+  if (offsets.back() == 3 * static_cast<std::int64_t>(faces))  // every face has >= 3 corners
+    return Eigen::Map<const FaceMatrix>(corners.data(), faces, 3).cast<std::int64_t>();
+  return io::triangulate_fan(offsets, corners).cast<std::int64_t>();
+}
+
 Int64Column to_int64(const std::vector<int>& values) {
   Int64Column out(static_cast<Eigen::Index>(values.size()));
   for (std::size_t k = 0; k < values.size(); ++k) out[k] = values[k];
@@ -56,9 +64,9 @@ void bind_io(py::module_& m) {
       py::gil_scoped_release release;
       mesh = io::read_mesh(path, options);
       if (triangulate) {
-        F = io::triangulate_fan(mesh.face_offsets, mesh.face_vertices).cast<std::int64_t>();
-        if (!mesh.face_uvs.empty()) F_uv = io::triangulate_fan(mesh.face_offsets, mesh.face_uvs).cast<std::int64_t>();
-        if (!mesh.face_normals.empty()) F_normal = io::triangulate_fan(mesh.face_offsets, mesh.face_normals).cast<std::int64_t>();
+        F = triangles_int64(mesh.face_offsets, mesh.face_vertices);
+        if (!mesh.face_uvs.empty()) F_uv = triangles_int64(mesh.face_offsets, mesh.face_uvs);
+        if (!mesh.face_normals.empty()) F_normal = triangles_int64(mesh.face_offsets, mesh.face_normals);
       } else {
         offsets = to_int64(mesh.face_offsets);
         indices = to_int64(mesh.face_vertices);

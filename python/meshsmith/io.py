@@ -116,11 +116,11 @@ def _format(format):
 def _resolved_format(path, format) -> str:
     if format is not None:
         return _format(format)
-    return os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+    return os.path.splitext(os.fsdecode(path))[1].lstrip(".").lower()
 
 
 def _read(path, triangulate, format, with_uv, with_normals) -> MeshWithAttributes:
-    out = _core.read_mesh(os.fspath(path), _format(format), bool(triangulate), with_uv,
+    out = _core.read_mesh(os.fsdecode(path), _format(format), bool(triangulate), with_uv,
                           with_normals)
     if triangulate:
         return MeshWithAttributes(out["V"], out["F"], out["UV"], out["F_uv"], out["N"],
@@ -170,6 +170,13 @@ def _polygon_arrays(faces):
     return faces, None
 
 
+def _corner_column(indices):
+    """Per-corner indices of polygons (Polygons or a flat array) as a (k, 1) array."""
+    if isinstance(indices, Polygons):
+        indices = indices.indices
+    return np.asarray(indices).reshape(-1, 1)
+
+
 def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = None,
                big_endian: bool = False, UV=None, F_uv=None, N=None, F_normal=None) -> None:
     """Write a mesh as OBJ, OFF, PLY or STL.
@@ -179,7 +186,8 @@ def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = N
     OBJ is always text. Text coordinates are written in the shortest form that reads back to
     the same float64 (exact round trip); binary PLY stores float64; binary STL and binary OFF
     store float32 (as those formats prescribe). big_endian: binary PLY only.
-    UV (k, 2) with F_uv (like F), N (l, 3) with F_normal (like F): written by OBJ as
+    UV (k, 2) with F_uv (like F; for Polygons a Polygons or a flat per-corner array), N (l, 3)
+    with F_normal (like F_uv): written by OBJ as
     ``f v/vt/vn``; PLY writes N as nx, ny, nz when N has n rows (F_normal may be omitted).
     STL writes the fan triangulation with facet normals.
     Raises InputError for bad arrays (shape, dtype, non-finite values, indices out of range)
@@ -190,9 +198,9 @@ def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = N
         binary = _BINARY_BY_DEFAULT.get(fmt, False)
     faces, offsets = _polygon_arrays(F)
     if offsets is not None:
-        F_uv = _polygon_arrays(F_uv)[0] if F_uv is not None else None
-        F_normal = _polygon_arrays(F_normal)[0] if F_normal is not None else None
-    _core.write_mesh(os.fspath(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
+        F_uv = _corner_column(F_uv) if F_uv is not None else None
+        F_normal = _corner_column(F_normal) if F_normal is not None else None
+    _core.write_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
                      bool(binary), bool(big_endian))
 
 
@@ -204,7 +212,7 @@ def read_points(path, *, format: str | None = None):
     Returns (P, N): P (n, 3) float64, N (n, 3) float64 or None when the file has no normals.
     Raises InputError for any bad file.
     """
-    return _core.read_points(os.fspath(path), _format(format))
+    return _core.read_points(os.fsdecode(path), _format(format))
 
 
 def write_points(path, P, N=None, *, format: str | None = None, binary: bool | None = None,
@@ -217,4 +225,4 @@ def write_points(path, P, N=None, *, format: str | None = None, binary: bool | N
     fmt = _resolved_format(path, format)
     if binary is None:
         binary = _BINARY_BY_DEFAULT.get(fmt, False)
-    _core.write_points(os.fspath(path), P, N, _format(format), bool(binary), bool(big_endian))
+    _core.write_points(os.fsdecode(path), P, N, _format(format), bool(binary), bool(big_endian))

@@ -10,8 +10,20 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <system_error>
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#ifdef MAP_POPULATE
+#define MAP_POPULATE_IF_AVAILABLE MAP_POPULATE
+#else
+#define MAP_POPULATE_IF_AVAILABLE 0
+#endif
+#endif
 
 namespace meshsmith::io {
 
@@ -41,14 +53,14 @@ void check_finite(const std::string& path, const Matrix& matrix, const char* nam
 void check_corner_indices(const std::string& path, const PolygonMesh& mesh,
                           const std::vector<int>& corners, Eigen::Index count, const char* name,
                           bool allow_missing) {
-  for (std::int64_t f = 0; f < mesh.face_count(); ++f)
-    for (std::int64_t k = mesh.face_offsets[f]; k < mesh.face_offsets[f + 1]; ++k) {
-      const int index = corners[k];
-      if ((index < 0 && !(allow_missing && index == -1)) || index >= count)
-        throw InputError(path + ": cannot write: face " + std::to_string(f) + " has " + name +
-                         " index " + std::to_string(index) + " outside [0, " +
-                         std::to_string(count) + ")");
-    }
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const int index = corners[k];
+    if ((index >= 0 && index < count) || (allow_missing && index == -1)) continue;
+    const auto face = std::upper_bound(mesh.face_offsets.begin(), mesh.face_offsets.end(),
+                                       static_cast<std::int64_t>(k)) - mesh.face_offsets.begin() - 1;
+    throw InputError(path + ": cannot write: face " + std::to_string(face) + " has " + name +
+                     " index " + std::to_string(index) + " outside [0, " + std::to_string(count) + ")");
+  }
 }
 
 /// Everything a writer relies on: finite values, a well-formed offset array, indices in range.
@@ -94,7 +106,7 @@ const char* format_name(Format format) {
 
 }  // namespace
 
-std::string read_file_contents(const std::string& path) {
+FileContents read_file_contents(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
@@ -105,16 +117,28 @@ std::string read_file_contents(const std::string& path) {
   if (error) throw InputError(path + ": cannot access file: " + error.message());
   if (status.type() != fs::file_type::regular)
     throw InputError(path + ": not a regular file");
+  const auto size = static_cast<std::size_t>(fs::file_size(path, error));
+  if (error) throw InputError(path + ": cannot read file size: " + error.message());
+  if (size == 0) throw InputError(path + ": file is empty");
+#if defined(__unix__) || defined(__APPLE__)
+  const int descriptor = ::open(path.c_str(), O_RDONLY);
+  if (descriptor < 0) throw InputError(path + ": cannot open file: " + std::strerror(errno));
+  void* mapping = ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE_IF_AVAILABLE, descriptor, 0);
+  ::close(descriptor);
+  if (mapping != MAP_FAILED) return FileContents(mapping, size);
+#endif
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
   if (!file) throw InputError(path + ": cannot open file: " + std::strerror(errno));
-  std::string contents;
-  const auto size = fs::file_size(path, error);
-  if (error) throw InputError(path + ": cannot read file size: " + error.message());
-  contents.resize(static_cast<std::size_t>(size));
-  const std::size_t got = size ? std::fread(contents.data(), 1, contents.size(), file.get()) : 0;
-  if (got != contents.size()) throw InputError(path + ": cannot read the whole file");
-  if (contents.empty()) throw InputError(path + ": file is empty");
-  return contents;
+  std::unique_ptr<char[]> data(new char[size]);
+  if (std::fread(data.get(), 1, size, file.get()) != size)
+    throw InputError(path + ": cannot read the whole file");
+  return FileContents(std::move(data), size);
+}
+
+FileContents::~FileContents() {
+#if defined(__unix__) || defined(__APPLE__)
+  if (mapping_) ::munmap(const_cast<void*>(mapping_), size_);
+#endif
 }
 
 void write_file_contents(const std::string& path, std::string_view contents) {
@@ -172,7 +196,7 @@ PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
   const Format format = resolve_format(path, options.format);
   if (format == Format::xyz)
     throw InputError(path + ": XYZ files hold point clouds, not meshes (use read_points)");
-  const std::string contents = read_file_contents(path);
+  const FileContents contents = read_file_contents(path);
   PolygonMesh mesh;
   switch (format) {
     case Format::obj: mesh = parse_obj(path, contents, options); break;
@@ -195,6 +219,14 @@ PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
 void write_mesh(const std::string& path, const PolygonMesh& mesh, const WriteOptions& options) {
   const Format format = resolve_format(path, options.format);
   check_writable(path, mesh);
+  if (options.binary && (format == Format::stl || format == Format::off)) {
+    const double largest = mesh.V.size() ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
+    if (largest > static_cast<double>(std::numeric_limits<float>::max()))
+      throw InputError(path + ": cannot write: binary " + format_name(format) +
+                       " stores float32 and V holds " + std::to_string(largest));
+  }
+  if (format == Format::stl && mesh.face_count() == 0)
+    throw InputError(path + ": cannot write: an STL file needs at least one face");
   std::string contents;
   switch (format) {
     case Format::obj: contents = format_obj(mesh); break;
@@ -212,7 +244,7 @@ PointCloud read_points(const std::string& path, Format requested) {
   const Format format = resolve_format(path, requested);
   if (format != Format::xyz && format != Format::ply)
     throw InputError(path + ": read_points reads XYZ and PLY files, not " + format_name(format));
-  const std::string contents = read_file_contents(path);
+  const FileContents contents = read_file_contents(path);
   if (format == Format::xyz) return parse_xyz(path, contents);
   PolygonMesh mesh = parse_ply(path, contents, false);
   PointCloud points;

@@ -2,7 +2,12 @@
 #include <meshsmith/io/formats.h>
 #include <meshsmith/io/parsing.h>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <climits>
 
 namespace meshsmith::io {
@@ -73,29 +78,35 @@ void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword,
   for (; count < store; ++count) out.push_back(0.0);
 }
 
-template <typename Matrix>
-Matrix to_matrix(const std::vector<double>& values) {
-  Matrix matrix(static_cast<Eigen::Index>(values.size() / Matrix::ColsAtCompileTime),
-                Matrix::ColsAtCompileTime);
-  std::copy(values.begin(), values.end(), matrix.data());
-  return matrix;
-}
+/// Thrown by a chunk of a parallel parse that cannot be parsed on its own (a relative index).
+struct NeedsWholeFile {};
 
-}  // namespace
-
-PolygonMesh parse_obj(const std::string& path, std::string_view text, const ReadOptions& options) {
+/// What one run of lines holds, before the pieces of several runs are joined.
+struct ObjPiece {
   std::vector<double> positions, uvs, normals;
-  PolygonMesh mesh;
-  LineReader lines(path, text);
-  IndexResolver vertex_index{"vertex"}, uv_index{"texture coordinate"}, normal_index{"normal"};
+  std::vector<std::int64_t> face_offsets{0};  // local: start at 0
+  std::vector<int> corners, corner_uvs, corner_normals;
   std::int64_t uv_count = 0, normal_count = 0;
   bool any_uv = false, any_normal = false;
+  IndexResolver vertex_index{"vertex"}, uv_index{"texture coordinate"}, normal_index{"normal"};
+};
+
+/// Parses the lines of `text` (`first_line` numbers its first line). With `whole_file` false
+/// the piece is one chunk of a larger file: a relative (negative) index throws NeedsWholeFile.
+ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const ReadOptions& options,
+                         bool whole_file) {
+  ObjPiece piece;
+  LineReader lines(path, text);
   std::string_view line, keyword, corner;
+  auto index = [&](IndexResolver& resolver, std::int64_t value, std::int64_t defined) {
+    if (value < 0 && !whole_file) throw NeedsWholeFile{};
+    return resolver.resolve(lines, value, defined);
+  };
   while (lines.next(line)) {
     Tokens tokens(line);
     if (!tokens.next(keyword) || keyword[0] == '#') continue;
     if (keyword == "v") {
-      parse_numbers(lines, tokens, "v", 3, 7, 3, positions);
+      parse_numbers(lines, tokens, "v", 3, 7, 3, piece.positions);
     } else if (keyword == "f" || keyword == "fo") {
       std::int64_t corners = 0;
       while (tokens.next(corner)) {
@@ -112,50 +123,150 @@ PolygonMesh parse_obj(const std::string& path, std::string_view text, const Read
         std::int64_t value;
         if (!parse_integer(parts[0], value))
           lines.fail(quoted(corner) + " is not a face corner (v, v/vt, v//vn or v/vt/vn)");
-        mesh.face_vertices.push_back(
-            vertex_index.resolve(lines, value, static_cast<std::int64_t>(positions.size() / 3)));
+        piece.corners.push_back(
+            index(piece.vertex_index, value, static_cast<std::int64_t>(piece.positions.size() / 3)));
         int uv = -1, normal = -1;
         if (part_count > 1 && !parts[1].empty()) {
           if (!parse_integer(parts[1], value))
             lines.fail(quoted(corner) + " has a texture coordinate index that is not an integer");
-          uv = uv_index.resolve(lines, value, uv_count);
-          any_uv = true;
+          uv = index(piece.uv_index, value, piece.uv_count);
+          piece.any_uv = true;
         }
         if (part_count > 2 && !parts[2].empty()) {
           if (!parse_integer(parts[2], value))
             lines.fail(quoted(corner) + " has a normal index that is not an integer");
-          normal = normal_index.resolve(lines, value, normal_count);
-          any_normal = true;
+          normal = index(piece.normal_index, value, piece.normal_count);
+          piece.any_normal = true;
         }
-        if (options.with_uv) mesh.face_uvs.push_back(uv);
-        if (options.with_normals) mesh.face_normals.push_back(normal);
+        if (options.with_uv) piece.corner_uvs.push_back(uv);
+        if (options.with_normals) piece.corner_normals.push_back(normal);
         ++corners;
       }
       if (corners < 3)
         lines.fail("face with " + std::to_string(corners) + " corners (at least 3 needed)");
-      mesh.face_offsets.push_back(mesh.face_offsets.back() + corners);
+      piece.face_offsets.push_back(piece.face_offsets.back() + corners);
     } else if (keyword == "vt") {
-      ++uv_count;
-      parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, uvs);
+      ++piece.uv_count;
+      parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, piece.uvs);
     } else if (keyword == "vn") {
-      ++normal_count;
-      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, normals);
+      ++piece.normal_count;
+      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals);
     } else if (!is_ignored_statement(keyword)) {
       lines.fail("unknown OBJ statement " + quoted(keyword));
     }
   }
-  const std::int64_t vertex_count = static_cast<std::int64_t>(positions.size() / 3);
+  return piece;
+}
+
+/// Splits `text` at line ends into about `count` pieces, parses them in parallel and joins
+/// them. Empty when a piece cannot stand alone or holds an error (the caller then parses the
+/// whole file in one piece, which reports the error with its true line number).
+std::vector<ObjPiece> parse_obj_in_parallel(const std::string& path, std::string_view text,
+                                            const ReadOptions& options, std::size_t count) {
+  std::vector<std::string_view> chunks;
+  std::size_t begin = 0;
+  for (std::size_t k = 1; k <= count && begin < text.size(); ++k) {
+    std::size_t end = k == count ? text.size() : std::max(begin, text.size() * k / count);
+    while (end < text.size() && text[end] != '\n') ++end;
+    end = std::min(text.size(), end + 1);
+    chunks.push_back(text.substr(begin, end - begin));
+    begin = end;
+  }
+  std::vector<ObjPiece> pieces(chunks.size());
+  std::atomic<bool> failed{false};
+  tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t k) {
+    if (failed) return;
+    try {
+      pieces[k] = parse_obj_piece(path, chunks[k], options, false);
+    } catch (const NeedsWholeFile&) {
+      failed = true;
+    } catch (const InputError&) {
+      failed = true;
+    }
+  });
+  if (failed) return {};
+  return pieces;
+}
+
+template <typename T>
+std::vector<T> join(std::vector<ObjPiece>& pieces, std::vector<T> ObjPiece::*member) {
+  if (pieces.size() == 1) return std::move(pieces[0].*member);
+  std::vector<std::size_t> starts(pieces.size() + 1, 0);
+  for (std::size_t k = 0; k < pieces.size(); ++k) starts[k + 1] = starts[k] + (pieces[k].*member).size();
+  std::vector<T> joined(starts.back());
+  tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t k) {
+    std::copy((pieces[k].*member).begin(), (pieces[k].*member).end(), joined.begin() + starts[k]);
+    std::vector<T>().swap(pieces[k].*member);
+  });
+  return joined;
+}
+
+template <typename Matrix>
+Matrix to_matrix(const std::vector<double>& values) {
+  Matrix matrix(static_cast<Eigen::Index>(values.size() / Matrix::ColsAtCompileTime),
+                Matrix::ColsAtCompileTime);
+  std::copy(values.begin(), values.end(), matrix.data());
+  return matrix;
+}
+
+PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
+                           const ReadOptions& options, bool allow_parallel) {
+  // Large files are parsed in pieces on all cores; small ones, files with relative indices and
+  // files with errors in one piece (which gives the true line numbers).
+  constexpr std::size_t piece_bytes = 1 << 20;
+  std::vector<ObjPiece> pieces;
+  const std::size_t threads = static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+  if (allow_parallel && text.size() >= 4 * piece_bytes && threads > 1)
+    pieces = parse_obj_in_parallel(path, text, options, std::min(text.size() / piece_bytes, 8 * threads));
+  if (pieces.empty()) pieces.push_back(parse_obj_piece(path, text, options, true));
+
+  std::int64_t vertex_count = 0, uv_count = 0, normal_count = 0, corner_count = 0;
+  bool any_uv = false, any_normal = false;
+  for (const ObjPiece& piece : pieces) {
+    vertex_count += static_cast<std::int64_t>(piece.positions.size() / 3);
+    uv_count += piece.uv_count;
+    normal_count += piece.normal_count;
+    any_uv |= piece.any_uv;
+    any_normal |= piece.any_normal;
+  }
   if (vertex_count > INT_MAX) throw InputError(path + ": too many vertices");
   if (vertex_count == 0) throw InputError(path + ": no vertices ('v' statements) in the file");
-  vertex_index.check(path, vertex_count);
-  uv_index.check(path, uv_count);
-  normal_index.check(path, normal_count);
-  mesh.V = to_matrix<VertexMatrix>(positions);
-  if (options.with_uv && any_uv) mesh.UV = to_matrix<UVMatrix>(uvs);
-  else mesh.face_uvs.clear();
-  if (options.with_normals && any_normal) mesh.N = to_matrix<VertexMatrix>(normals);
-  else mesh.face_normals.clear();
+  for (const ObjPiece& piece : pieces)
+    if (piece.vertex_index.largest >= vertex_count || piece.uv_index.largest >= uv_count ||
+        piece.normal_index.largest >= normal_count) {
+      if (pieces.size() > 1) return parse_obj_text(path, text, options, false);  // true line numbers
+      piece.vertex_index.check(path, vertex_count);
+      piece.uv_index.check(path, uv_count);
+      piece.normal_index.check(path, normal_count);
+    }
+
+  PolygonMesh mesh;
+  std::size_t face_count = 0;
+  for (const ObjPiece& piece : pieces) face_count += piece.face_offsets.size() - 1;
+  mesh.face_offsets.resize(face_count + 1);
+  std::size_t face = 0;
+  for (const ObjPiece& piece : pieces) {
+    for (std::size_t f = 1; f < piece.face_offsets.size(); ++f)
+      mesh.face_offsets[++face] = corner_count + piece.face_offsets[f];
+    corner_count += piece.face_offsets.back();
+  }
+  mesh.V = to_matrix<VertexMatrix>(join(pieces, &ObjPiece::positions));
+  mesh.face_vertices = join(pieces, &ObjPiece::corners);
+  if (options.with_uv && any_uv) {
+    mesh.UV = to_matrix<UVMatrix>(join(pieces, &ObjPiece::uvs));
+    mesh.face_uvs = join(pieces, &ObjPiece::corner_uvs);
+  }
+  if (options.with_normals && any_normal) {
+    mesh.N = to_matrix<VertexMatrix>(join(pieces, &ObjPiece::normals));
+    mesh.face_normals = join(pieces, &ObjPiece::corner_normals);
+  }
   return mesh;
+}
+
+}  // namespace
+
+PolygonMesh parse_obj(const std::string& path, std::string_view text, const ReadOptions& options) {
+  return parse_obj_text(path, text, options, true);
 }
 
 std::string format_obj(const PolygonMesh& mesh) {

@@ -81,9 +81,11 @@ PolygonMesh parse_binary_off(const std::string& path, std::string_view bytes, st
 void check_trailing_numbers(const LineReader& lines, Tokens& tokens) {
   std::string_view token;
   double ignored;
-  while (tokens.next(token))
+  while (tokens.next(token)) {
+    if (token[0] == '#') return;  // a comment ends the line
     if (!parse_double(token, ignored))
       lines.fail(quoted(token) + " is not a number");
+  }
 }
 
 }  // namespace

@@ -2,8 +2,10 @@
 #include <meshsmith/io/formats.h>
 #include <meshsmith/io/parsing.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
+#include <utility>
 
 namespace meshsmith::io {
 
@@ -199,6 +201,7 @@ class MeshBuilder {
   void begin_vertices(const Element& element) {
     has_vertices_ = true;
     vertex_count_ = element.count;
+    vertex_limit_ = static_cast<double>(element.count);
     if (vertex_count_ > INT_MAX) throw InputError(path_ + ": too many vertices");
     bool roles[11] = {};
     for (const Property& property : element.properties) roles[static_cast<int>(property.role)] = true;
@@ -211,6 +214,19 @@ class MeshBuilder {
     if (has_normals_) mesh.N.resize(vertex_count_, 3);
     if (has_uv_) mesh.UV.resize(vertex_count_, 2);
   }
+
+  /// Where the values of `role` go: a column of V, N or UV (pointer to row 0 and row stride),
+  /// or nullptr when the role is not kept.
+  std::pair<double*, Eigen::Index> destination(Role role) {
+    const int r = static_cast<int>(role);
+    if (role == Role::x || role == Role::y || role == Role::z) return {mesh.V.data() + (r - int(Role::x)), 3};
+    if (has_normals_ && (role == Role::nx || role == Role::ny || role == Role::nz))
+      return {mesh.N.data() + (r - int(Role::nx)), 3};
+    if (has_uv_ && (role == Role::u || role == Role::v)) return {mesh.UV.data() + (r - int(Role::u)), 2};
+    return {nullptr, 0};
+  }
+
+  bool reads_faces() const { return read_faces_; }
 
   /// Stores `value` of vertex `i`; false when the value is not finite where it matters.
   bool vertex_value(std::int64_t i, Role role, double value) {
@@ -228,33 +244,68 @@ class MeshBuilder {
     }
   }
 
-  /// Starts a polygon (face element) or a strip; returns an error message or "".
-  void begin_list(Role role) { role_ = role; list_.clear(); }
-  /// Adds an index to the current list; returns an error message or "".
-  std::string list_index(double value) {
-    if (role_ == Role::strip_indices && value == -1) {
-      list_.push_back(-1);
-      return {};
-    }
-    if (!(value >= 0 && value < static_cast<double>(vertex_count_)))
-      return "vertex index " + std::to_string(static_cast<std::int64_t>(value)) + " outside [0, " +
-             std::to_string(vertex_count_) + ")";
-    list_.push_back(static_cast<int>(value));
+  /// Reserves room for `faces` more faces of about `corners` corners in all.
+  void reserve_faces(std::size_t faces, std::size_t corners) {
+    if (!read_faces_) return;
+    mesh.face_offsets.reserve(mesh.face_offsets.size() + faces);
+    mesh.face_vertices.reserve(mesh.face_vertices.size() + corners);
+  }
+
+  /// Starts a list of `count` indices of a face or strip property; "" or an error message.
+  std::string begin_list(Role role, std::int64_t count) {
+    role_ = role;
+    list_.clear();
+    if (role == Role::face_indices && count < 3)
+      return "face with " + std::to_string(count) + " corners (at least 3 needed)";
     return {};
   }
-  /// Ends the current list; returns an error message or "".
-  std::string end_list() {
-    if (role_ == Role::face_indices) {
-      if (list_.size() < 3)
-        return "face with " + std::to_string(list_.size()) + " corners (at least 3 needed)";
-      if (read_faces_) {
-        mesh.face_vertices.insert(mesh.face_vertices.end(), list_.begin(), list_.end());
-        mesh.face_offsets.push_back(mesh.face_vertices.size());
+
+  /// Adds an index to the current list; false when it is out of range (see index_error).
+  bool add_index(double value) {
+    if (role_ == Role::strip_indices) {
+      if (value == -1) {
+        list_.push_back(-1);
+        return true;
       }
-    } else if (role_ == Role::strip_indices && read_faces_) {
-      add_strips();
+      if (!(value >= 0 && value < vertex_limit_)) return false;
+      list_.push_back(static_cast<int>(value));
+      return true;
     }
-    return {};
+    if (!(value >= 0 && value < vertex_limit_)) return false;
+    if (read_faces_) mesh.face_vertices.push_back(static_cast<int>(value));
+    return true;
+  }
+
+  /// Adds a face of `size` 32-bit indices at `data` (int32 or uint32: both are in range only
+  /// when below the vertex count as unsigned); false, adding nothing, if one is out of range.
+  bool add_face(const char* data, int size, bool swap) {
+    const std::size_t first = mesh.face_vertices.size();
+    for (int k = 0; k < size; ++k) {
+      const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+      if (index >= static_cast<std::uint64_t>(vertex_count_)) {
+        if (read_faces_) mesh.face_vertices.resize(first);
+        return false;
+      }
+      if (read_faces_) mesh.face_vertices.push_back(static_cast<int>(index));
+    }
+    if (read_faces_) mesh.face_offsets.push_back(mesh.face_vertices.size());
+    return true;
+  }
+
+  std::int64_t vertex_count() const { return vertex_count_; }
+
+  std::string index_error(double value) const {
+    OutputBuffer text;  // exact for integers, and no out-of-range cast for huge ASCII values
+    text.number(value);
+    return "vertex index " + std::string(text.contents()) + " outside [0, " +
+           std::to_string(vertex_count_) + ")";
+  }
+
+  /// Ends the current list.
+  void end_list() {
+    if (!read_faces_) return;
+    if (role_ == Role::face_indices) mesh.face_offsets.push_back(mesh.face_vertices.size());
+    else if (role_ == Role::strip_indices) add_strips();
   }
 
   bool needs_vertex_count() const { return !has_vertices_; }
@@ -283,9 +334,120 @@ class MeshBuilder {
   bool read_faces_;
   bool has_vertices_ = false, has_normals_ = false, has_uv_ = false;
   std::int64_t vertex_count_ = 0;
+  double vertex_limit_ = 0;
   Role role_ = Role::skip;
   std::vector<int> list_;
 };
+
+/// The vertex element when all its properties have fixed sizes: decode only the kept ones at
+/// their offsets in each record.
+void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& builder) {
+  struct Field { std::size_t offset; const Property* property; double* destination; Eigen::Index stride; };
+  std::vector<Field> fields;
+  std::size_t record = 0;
+  for (const Property& property : element.properties) {
+    if (property.role != Role::skip) {
+      auto [destination, stride] = builder.destination(property.role);
+      fields.push_back({record, &property, destination, stride});
+    }
+    record += scalar_size(property.type);
+  }
+  in.require(record * element.count, "the vertex element");
+  const char* base = in.here();
+  const bool swap = in.swap();
+  for (const Field& field : fields) {
+    const char* data = base + field.offset;
+    double* out = field.destination;
+    const Scalar type = field.property->type;
+    for (std::int64_t r = 0; r < element.count; ++r, data += record) {
+      const double value = type == Scalar::float32 ? ByteReader::decode<float>(data, swap)
+                           : type == Scalar::float64 ? ByteReader::decode<double>(data, swap)
+                                                     : decode_scalar(type, data, swap);
+      if (!std::isfinite(value))
+        in.fail_at(in.offset() + r * record + field.offset,
+                   "vertex " + std::to_string(r) + " has a non-finite " + field.property->name);
+      if (out) out[r * field.stride] = value;
+    }
+  }
+  in.skip(record * element.count, "the vertex element");
+}
+
+/// Faces that are all triangles of 32-bit indices (13-byte records): decoded in one tight loop.
+/// False, with nothing consumed or stored, when they are not, or when an index is out of range
+/// (the caller's per-face loop then reports it).
+bool parse_uniform_triangles(ByteReader& in, std::int64_t count, bool swap, MeshBuilder& builder) {
+  constexpr std::size_t record = 13;
+  if (in.remaining_bytes() / record < static_cast<std::uint64_t>(count)) return false;
+  const char* base = in.here();
+  for (std::int64_t r = 0; r < count; ++r)
+    if (base[r * record] != 3) return false;
+  const auto limit = static_cast<std::uint32_t>(builder.vertex_count());
+  bool out_of_range = false;
+  if (builder.reads_faces()) {
+    auto& corners = builder.mesh.face_vertices;
+    auto& offsets = builder.mesh.face_offsets;
+    const std::size_t first_corner = corners.size(), first_face = offsets.size();
+    corners.resize(first_corner + 3 * count);
+    offsets.resize(first_face + count);
+    int* out = corners.data() + first_corner;
+    std::int64_t* ends = offsets.data() + first_face;
+    const std::int64_t start = static_cast<std::int64_t>(first_corner);
+    for (std::int64_t r = 0; r < count; ++r) {
+      const char* data = base + r * record + 1;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+        out_of_range |= index >= limit;
+        out[3 * r + k] = static_cast<int>(index);
+      }
+      ends[r] = start + 3 * (r + 1);
+    }
+    if (out_of_range) {
+      corners.resize(first_corner);
+      offsets.resize(first_face);
+    }
+  } else {
+    for (std::int64_t r = 0; r < count; ++r)
+      for (int k = 0; k < 3; ++k)
+        out_of_range |= ByteReader::decode<std::uint32_t>(base + r * record + 1 + 4 * k, swap) >= limit;
+  }
+  if (out_of_range) return false;
+  in.skip(record * count, "faces");
+  return true;
+}
+
+/// The common face element (only `list uchar int|uint vertex_indices`): a tight loop that
+/// writes the indices straight into the mesh.
+bool parse_simple_faces(ByteReader& in, const Element& element, MeshBuilder& builder) {
+  if (element.properties.size() != 1) return false;
+  const Property& property = element.properties[0];
+  if (property.role != Role::face_indices || scalar_size(property.count_type) != 1 ||
+      (property.type != Scalar::int32 && property.type != Scalar::uint32))
+    return false;
+  const bool swap = in.swap();
+  const bool signed_count = property.count_type == Scalar::int8;
+  if (parse_uniform_triangles(in, element.count, swap, builder)) return true;
+  for (std::int64_t r = 0; r < element.count; ++r) {
+    const std::size_t start = in.offset();
+    in.require(1, "a face size");
+    const int size = signed_count ? static_cast<int>(static_cast<std::int8_t>(*in.here()))
+                                  : static_cast<int>(static_cast<std::uint8_t>(*in.here()));
+    const std::string error = size < 3 ? builder.begin_list(Role::face_indices, size) : std::string();
+    if (!error.empty()) in.fail_at(start, "face " + std::to_string(r) + ": " + error);
+    in.skip(1, "a face size");
+    in.require(4 * static_cast<std::size_t>(size), "face indices");
+    const char* data = in.here();
+    if (!builder.add_face(data, size, swap)) {
+      for (int k = 0; k < size; ++k) {
+        const std::uint32_t index = ByteReader::decode<std::uint32_t>(data + 4 * k, swap);
+        const double value = property.type == Scalar::int32 ? static_cast<double>(static_cast<std::int32_t>(index)) : index;
+        if (!(value >= 0 && value < static_cast<double>(builder.vertex_count())))
+          in.fail_at(in.offset() + 4 * k, "face " + std::to_string(r) + ": " + builder.index_error(value));
+      }
+    }
+    in.skip(4 * static_cast<std::size_t>(size), "face indices");
+  }
+  return true;
+}
 
 void parse_binary_body(const std::string& path, std::string_view bytes, const Header& header,
                        MeshBuilder& builder) {
@@ -293,9 +455,8 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
   const bool swap = in.swap();
   for (const Element& element : header.elements) {
     const bool is_vertex = element.name == "vertex";
-    bool has_role = false;
+    bool has_role = false, all_fixed = true;
     std::size_t fixed_size = 0;
-    bool all_fixed = true;
     for (const Property& property : element.properties) {
       has_role |= property.role != Role::skip;
       all_fixed &= !property.is_list;
@@ -304,6 +465,14 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
     if (!has_role && all_fixed) {  // nothing to keep: skip the whole element at once
       in.skip(fixed_size * element.count, ("element '" + element.name + "'").c_str());
       continue;
+    }
+    if (is_vertex && all_fixed) {
+      parse_fixed_vertices(in, element, builder);
+      continue;
+    }
+    if (element.name == "face") {
+      builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, in.remaining_bytes() / 4));
+      if (parse_simple_faces(in, element, builder)) continue;
     }
     for (std::int64_t r = 0; r < element.count; ++r) {
       for (const Property& property : element.properties) {
@@ -329,14 +498,17 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
           in.skip(items * item_size, property.name.c_str());
           continue;
         }
-        builder.begin_list(property.role);
-        for (std::size_t k = 0; k < items; ++k) {
-          std::string error = builder.list_index(decode_scalar(property.type, in.here(), swap));
-          if (!error.empty()) in.fail(element.name + " " + std::to_string(r) + ": " + error);
-          in.skip(item_size, property.name.c_str());
-        }
-        std::string error = builder.end_list();
+        std::string error = builder.begin_list(property.role, static_cast<std::int64_t>(items));
         if (!error.empty()) in.fail_at(list_start, element.name + " " + std::to_string(r) + ": " + error);
+        const char* data = in.here();
+        for (std::size_t k = 0; k < items; ++k) {
+          const double index = decode_scalar(property.type, data + k * item_size, swap);
+          if (!builder.add_index(index))
+            in.fail_at(in.offset() + k * item_size,
+                       element.name + " " + std::to_string(r) + ": " + builder.index_error(index));
+        }
+        in.skip(items * item_size, property.name.c_str());
+        builder.end_list();
       }
     }
   }
@@ -355,6 +527,9 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
   for (const Element& element : header.elements) {
     if (element.properties.empty()) continue;
     const bool is_vertex = element.name == "vertex";
+    for (const Property& property : element.properties)
+      if (property.role == Role::face_indices)
+        builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, lines.remaining_bytes() / 2));
     for (std::int64_t r = 0; r < element.count; ++r) {
       if (!lines.next_content(line, '\0'))
         lines.fail("unexpected end of file in element '" + element.name + "' (" + std::to_string(r) +
@@ -373,7 +548,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
         std::int64_t count;
         if (!parse_integer(count_token, count) || count < 0)
           lines.fail(quoted(count_token) + " is not a list length");
-        if (property.role != Role::skip) builder.begin_list(property.role);
+        if (property.role != Role::skip) {
+          std::string error = builder.begin_list(property.role, count);
+          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+        }
         for (std::int64_t k = 0; k < count; ++k) {
           std::string_view item = next_value(tokens, property, element, r);
           double value;
@@ -381,13 +559,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
             lines.fail(quoted(item) + " is not a finite number");
           if (property.role == Role::skip) continue;
           if (value != std::floor(value)) lines.fail("vertex index " + quoted(item) + " is not an integer");
-          std::string error = builder.list_index(value);
-          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
+          if (!builder.add_index(value))
+            lines.fail(element.name + " " + std::to_string(r) + ": " + builder.index_error(value));
         }
-        if (property.role != Role::skip) {
-          std::string error = builder.end_list();
-          if (!error.empty()) lines.fail(element.name + " " + std::to_string(r) + ": " + error);
-        }
+        if (property.role != Role::skip) builder.end_list();
       }
       if (!tokens.empty())
         lines.fail(element.name + " " + std::to_string(r) + ": more values than the header declares");
@@ -434,32 +609,51 @@ std::string format_ply(const PolygonMesh& mesh, bool binary, bool big_endian) {
                          : "\nproperty list uchar int vertex_indices\n");
   }
   out.text("end_header\n");
+  if (binary) {
+    // Vertex records and face records are laid out in place, a block at a time.
+    const bool swap = big_endian != ByteReader::host_is_big_endian();
+    const int columns = normals ? 6 : 3;
+    char* at = out.extend(static_cast<std::size_t>(mesh.V.rows()) * columns * 8);
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+      for (int c = 0; c < columns; ++c, at += 8) {
+        const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
+        std::memcpy(at, &value, 8);
+        if (swap) std::reverse(at, at + 8);
+      }
+    const std::size_t count_bytes = wide_counts ? 4 : 1;
+    at = out.extend(mesh.face_count() * count_bytes + mesh.face_vertices.size() * 4);
+    for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
+      const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+      const auto size = static_cast<std::int32_t>(end - begin);
+      if (wide_counts) {
+        std::memcpy(at, &size, 4);
+        if (swap) std::reverse(at, at + 4);
+      } else {
+        *at = static_cast<char>(static_cast<std::uint8_t>(size));
+      }
+      at += count_bytes;
+      std::memcpy(at, mesh.face_vertices.data() + begin, 4 * static_cast<std::size_t>(size));
+      if (swap)
+        for (std::int32_t k = 0; k < size; ++k) std::reverse(at + 4 * k, at + 4 * k + 4);
+      at += 4 * static_cast<std::size_t>(size);
+    }
+    return out.take();
+  }
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
     for (int c = 0; c < (normals ? 6 : 3); ++c) {
-      const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
-      if (binary) {
-        out.binary<double>(value, big_endian);
-      } else {
-        if (c > 0) out.character(' ');
-        out.number(value);
-      }
+      if (c > 0) out.character(' ');
+      out.number(c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3));
     }
-    if (!binary) out.character('\n');
+    out.character('\n');
   }
   for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
     const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-    if (binary) {
-      if (wide_counts) out.binary<std::int32_t>(static_cast<std::int32_t>(end - begin), big_endian);
-      else out.binary<std::uint8_t>(static_cast<std::uint8_t>(end - begin), big_endian);
-      for (std::int64_t k = begin; k < end; ++k) out.binary<std::int32_t>(mesh.face_vertices[k], big_endian);
-    } else {
-      out.number(end - begin);
-      for (std::int64_t k = begin; k < end; ++k) {
-        out.character(' ');
-        out.number(mesh.face_vertices[k]);
-      }
-      out.character('\n');
+    out.number(end - begin);
+    for (std::int64_t k = begin; k < end; ++k) {
+      out.character(' ');
+      out.number(mesh.face_vertices[k]);
     }
+    out.character('\n');
   }
   return out.take();
 }

@@ -3,8 +3,12 @@
 /// Reading and writing meshes and point clouds: OBJ, OFF (ASCII and binary), PLY (ASCII and
 /// binary, both endiannesses), STL (ASCII and binary) and XYZ point files.
 ///
-/// Every reader loads the whole file into memory and parses it with std::from_chars (text) or
-/// direct byte decoding (binary); no stream is read token by token. Every count a header states
+/// Every reader maps the whole file into memory (read-only; read into a buffer where mapping is
+/// unavailable) and parses it with std::from_chars and hand-rolled integer loops (text) or direct
+/// byte decoding (binary); no stream is read token by token. OBJ files of 4 MB and more are
+/// parsed in pieces on all cores (TBB) and joined; the result does not depend on the thread
+/// count, and a file whose pieces cannot stand alone (relative indices) or that holds an error
+/// is parsed in one piece, so that errors carry their true line numbers. Every count a header states
 /// is checked against what the rest of the file can hold before anything is allocated, so a
 /// corrupt or hostile file costs at most a small multiple of its own size in memory.
 /// Errors are InputError with the file name and the line (text) or byte offset (binary).

@@ -7,9 +7,11 @@
 /// exported because it is small and useful to C++ users writing their own readers.
 #include <meshsmith/core/errors.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -17,10 +19,36 @@
 
 namespace meshsmith::io {
 
+/// The whole content of a file, read-only: a private memory map of the file (POSIX) or, where
+/// mapping is not possible, a buffer it was read into.
+class FileContents {
+ public:
+  FileContents(std::unique_ptr<char[]> data, std::size_t size) : buffer_(std::move(data)), size_(size) {}
+  FileContents(const void* mapping, std::size_t size) : mapping_(mapping), size_(size) {}
+  FileContents(FileContents&& other) noexcept
+      : buffer_(std::move(other.buffer_)), mapping_(other.mapping_), size_(other.size_) {
+    other.mapping_ = nullptr;
+  }
+  FileContents(const FileContents&) = delete;
+  FileContents& operator=(const FileContents&) = delete;
+  FileContents& operator=(FileContents&&) = delete;
+  ~FileContents();
+
+  std::string_view bytes() const {
+    return {mapping_ ? static_cast<const char*>(mapping_) : buffer_.get(), size_};
+  }
+  operator std::string_view() const { return bytes(); }
+
+ private:
+  std::unique_ptr<char[]> buffer_;
+  const void* mapping_ = nullptr;
+  std::size_t size_;
+};
+
 /// The whole content of `path`.
 /// \throw InputError if the file does not exist, is a directory or not a regular file, cannot be
 ///        read, or is empty.
-std::string read_file_contents(const std::string& path);
+FileContents read_file_contents(const std::string& path);
 
 /// Writes `contents` to `path` (replacing it).
 /// \throw InputError if the file cannot be opened or written.
@@ -53,8 +81,52 @@ inline std::string quoted(std::string_view token) {
   return "'" + std::string(token.substr(0, 40)) + (token.size() > 40 ? "...'" : "'");
 }
 
+/// Clinger's fast path: a decimal with at most 19 digits whose digits form an integer m <= 2^53
+/// and whose power of ten e is within [-22, 22] is m * 10^e or m / 10^-e, both exactly
+/// representable, so one correctly rounded IEEE operation gives the correctly rounded value.
+/// False (nothing parsed) for anything else; the caller then uses std::from_chars.
+inline bool parse_simple_decimal(const char* first, const char* last, double& value) {
+  static constexpr double powers[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                      1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const bool negative = first != last && *first == '-';
+  if (negative) ++first;
+  std::uint64_t mantissa = 0;
+  int digits = 0, exponent = 0;
+  const char* p = first;
+  for (; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p, ++digits)
+    mantissa = mantissa * 10 + static_cast<unsigned>(*p - '0');
+  const int integer_digits = digits;
+  if (p != last && *p == '.') {
+    for (++p; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p, ++digits, --exponent)
+      mantissa = mantissa * 10 + static_cast<unsigned>(*p - '0');
+    if (digits == integer_digits && integer_digits == 0) return false;  // "." alone
+  }
+  if (digits == 0 || digits > 19) return false;
+  if (p != last && (*p == 'e' || *p == 'E')) {
+    ++p;
+    const bool negative_exponent = p != last && *p == '-';
+    if (p != last && (*p == '-' || *p == '+')) ++p;
+    if (p == last) return false;
+    int written = 0;
+    for (; p != last && static_cast<unsigned>(*p - '0') <= 9; ++p) {
+      written = written * 10 + (*p - '0');
+      if (written > 1000) return false;
+    }
+    exponent += negative_exponent ? -written : written;
+  }
+  if (p != last || mantissa > (std::uint64_t(1) << 53) || exponent < -22 || exponent > 22)
+    return false;
+  const double m = static_cast<double>(mantissa);
+  const double result = exponent < 0 ? m / powers[-exponent] : m * powers[exponent];
+  value = negative ? -result : result;
+  return true;
+}
+
 /// Parses all of `token` as a finite double (a leading '+' is accepted). False otherwise.
+/// Exact: the correctly rounded double of the decimal, as std::from_chars gives.
 inline bool parse_double(std::string_view token, double& value) {
+  if (parse_simple_decimal(token.data(), token.data() + token.size(), value)) return true;
   const char* first = token.data();
   const char* last = first + token.size();
   if (first != last && *first == '+') ++first;
@@ -64,14 +136,28 @@ inline bool parse_double(std::string_view token, double& value) {
   return value - value == 0.0;  // rejects inf and nan
 }
 
-/// Parses all of `token` as a decimal integer (a leading '+' is accepted). False otherwise.
+/// Parses all of `token` as a decimal integer (an optional sign, '+' included). False otherwise,
+/// and for values outside int64.
 inline bool parse_integer(std::string_view token, std::int64_t& value) {
   const char* first = token.data();
   const char* last = first + token.size();
-  if (first != last && *first == '+') ++first;
+  const bool negative = first != last && *first == '-';
+  if (first != last && (*first == '+' || *first == '-')) ++first;
   if (first == last) return false;
-  auto [end, error] = std::from_chars(first, last, value);
-  return error == std::errc() && end == last;
+  if (last - first > 18) {  // might overflow: let from_chars decide
+    if (*first == '-' || *first == '+') return false;  // a second sign
+    if (negative) --first;
+    auto [end, error] = std::from_chars(first, last, value);
+    return error == std::errc() && end == last;
+  }
+  std::int64_t result = 0;
+  for (; first != last; ++first) {
+    const unsigned digit = static_cast<unsigned>(*first) - '0';
+    if (digit > 9) return false;
+    result = result * 10 + digit;
+  }
+  value = negative ? -result : result;
+  return true;
 }
 
 /// Splits a line into whitespace-separated tokens.
@@ -211,21 +297,20 @@ class ByteReader {
   bool swap_;
 };
 
-/// An output buffer for writers: text with exact numbers, and raw binary values.
+/// An output buffer for writers: text with exact numbers, and raw binary values. Appends are
+/// inlined copies into a buffer grown geometrically.
 class OutputBuffer {
  public:
-  void text(std::string_view s) { out_.append(s); }
-  void character(char c) { out_.push_back(c); }
+  void text(std::string_view s) { std::memcpy(room(s.size()), s.data(), s.size()); used_ += s.size(); }
+  void character(char c) { *room(1) = c; ++used_; }
   /// Shortest decimal form that reads back to exactly `value` (std::to_chars).
   void number(double value) {
-    char buffer[32];
-    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out_.append(buffer, end);
+    char* at = room(32);
+    used_ = std::to_chars(at, at + 32, value).ptr - data_.data();
   }
   void number(std::int64_t value) {
-    char buffer[24];
-    auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out_.append(buffer, end);
+    char* at = room(24);
+    used_ = std::to_chars(at, at + 24, value).ptr - data_.data();
   }
   void number(int value) { number(static_cast<std::int64_t>(value)); }
   /// Appends the bytes of `value`, byte-swapped when `big_endian` differs from the host.
@@ -235,15 +320,35 @@ class OutputBuffer {
     std::memcpy(raw, &value, sizeof(T));
     if (big_endian != ByteReader::host_is_big_endian())
       for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
-    out_.append(raw, sizeof(T));
+    std::memcpy(room(sizeof(T)), raw, sizeof(T));
+    used_ += sizeof(T);
   }
-  void reserve(std::size_t bytes) { out_.reserve(bytes); }
-  const std::string& contents() const { return out_; }
+  /// Appends `bytes` bytes for the caller to fill through the returned pointer (valid until the
+  /// next append).
+  char* extend(std::size_t bytes) {
+    char* at = room(bytes);
+    used_ += bytes;
+    return at;
+  }
+  /// Makes room for `bytes` more bytes in one allocation.
+  void reserve(std::size_t bytes) { room(bytes); }
+  std::string_view contents() const { return {data_.data(), used_}; }
   /// Moves the buffer out (the OutputBuffer is empty afterwards).
-  std::string take() { return std::move(out_); }
+  std::string take() {
+    data_.resize(used_);
+    used_ = 0;
+    return std::move(data_);
+  }
 
  private:
-  std::string out_;
+  /// Pointer to the end of the contents, with at least `bytes` writable bytes after it.
+  char* room(std::size_t bytes) {
+    if (data_.size() - used_ < bytes) data_.resize(std::max(2 * data_.size(), used_ + bytes));
+    return data_.data() + used_;
+  }
+
+  std::string data_;
+  std::size_t used_ = 0;
 };
 
 }  // namespace meshsmith::io
