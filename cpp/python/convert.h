@@ -38,6 +38,25 @@ inline Eigen::Map<const FaceMatrix> map_faces(const IndexArray& a) {
   return {a.data(), a.shape(0), 3};
 }
 
+/// The (V, F) arguments of a binding, checked and converted once; V() and F() are zero-copy views
+/// that stay valid while this object lives.
+struct MeshArguments {
+  MeshArguments(const py::handle& V, const py::handle& F)
+      : vertices(as_real_matrix(V, "V", 3)), faces(as_index_matrix(F, "F", 3)) {}
+  Eigen::Map<const VertexMatrix> V() const { return map_vertices(vertices); }
+  Eigen::Map<const FaceMatrix> F() const { return map_faces(faces); }
+  RealArray vertices;
+  IndexArray faces;
+};
+
+/// Runs `work()` with the GIL released and returns its result; `work` must not touch Python
+/// objects (the arrays behind MeshArguments' views are fine: they are kept alive by the caller).
+template <typename Work>
+auto without_gil(Work&& work) {
+  py::gil_scoped_release release;
+  return work();
+}
+
 /// Moves a row-major Eigen matrix into a numpy array without copying its data.
 template <typename Matrix>
 py::array_t<typename Matrix::Scalar> to_numpy(Matrix&& matrix) {

@@ -14,20 +14,18 @@ namespace meshsmith::python {
 
 void bind_core(py::module_& m) {
   m.def("validate_mesh", [](const py::object& V, const py::object& F) {
-    auto vertices = as_real_matrix(V, "V", 3);
-    auto faces = as_index_matrix(F, "F", 3);
+    const MeshArguments mesh(V, F);
     py::gil_scoped_release release;
-    validate_mesh(map_vertices(vertices), map_faces(faces));
+    validate_mesh(mesh.V(), mesh.F());
   }, py::arg("V"), py::arg("F"));
 
   m.def("find_mesh_defects", [](const py::object& V, const py::object& F, double area_tolerance) {
-    auto vertices = as_real_matrix(V, "V", 3);
-    auto faces = as_index_matrix(F, "F", 3);
+    const MeshArguments mesh(V, F);
     MeshDefects defects;
     {
       py::gil_scoped_release release;
-      validate_mesh(map_vertices(vertices), map_faces(faces));
-      defects = find_mesh_defects(map_vertices(vertices), map_faces(faces), area_tolerance);
+      validate_mesh(mesh.V(), mesh.F());
+      defects = find_mesh_defects(mesh.V(), mesh.F(), area_tolerance);
     }
     py::dict out;
     out["degenerate_faces"] = py::array_t<int>(defects.degenerate_faces.size(), defects.degenerate_faces.data());
@@ -39,14 +37,9 @@ void bind_core(py::module_& m) {
   }, py::arg("V"), py::arg("F"), py::arg("area_tolerance") = 0.0);
 
   m.def("trimesh_roundtrip", [](const py::object& V, const py::object& F) {
-    auto vertices = as_real_matrix(V, "V", 3);
-    auto faces = as_index_matrix(F, "F", 3);
-    Mesh mesh;
-    {
-      py::gil_scoped_release release;
-      mesh = from_trimesh(to_trimesh(map_vertices(vertices), map_faces(faces)));
-    }
-    return py::make_tuple(to_numpy(std::move(mesh.V)), indices_to_numpy(mesh.F));
+    const MeshArguments mesh(V, F);
+    auto result = without_gil([&] { return from_trimesh(to_trimesh(mesh.V(), mesh.F())); });
+    return py::make_tuple(to_numpy(std::move(result.V)), indices_to_numpy(result.F));
   }, py::arg("V"), py::arg("F"),
   "Builds the OpenMesh TriMesh of (V, F) and converts it back (checks manifoldness on the way).");
 

@@ -46,21 +46,13 @@ Eigen::Index vertex_count_argument(const py::object& n_vertices) {
 void bind_topology(py::module_& m) {
   m.def("edges", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    EdgeMatrix result;
-    {
-      py::gil_scoped_release release;
-      result = topology::edges(map_faces(faces));
-    }
+    auto result = without_gil([&] { return topology::edges(map_faces(faces)); });
     return indices_to_numpy(result);
   }, py::arg("F"));
 
   m.def("boundary_loops", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    std::vector<std::vector<int>> loops;
-    {
-      py::gil_scoped_release release;
-      loops = topology::boundary_loops(map_faces(faces));
-    }
+    auto loops = without_gil([&] { return topology::boundary_loops(map_faces(faces)); });
     py::list out;
     for (const auto& loop : loops) out.append(int64_vector(loop));
     return out;
@@ -73,83 +65,54 @@ void bind_topology(py::module_& m) {
     if (connectivity != "vertex" && connectivity != "edge")
       throw InputError("connectivity must be 'vertex' or 'edge', got '" + connectivity + "'");
     const auto joined_by = connectivity == "edge" ? topology::Connectivity::Edge : topology::Connectivity::Vertex;
-    topology::Components components;
-    {
-      py::gil_scoped_release release;
-      components = topology::connected_components(map_faces(faces), n, joined_by);
-    }
+    auto components = without_gil([&] { return topology::connected_components(map_faces(faces), n, joined_by); });
     return py::make_tuple(components.count, int64_vector(components.face_labels),
                           int64_vector(components.vertex_labels));
   }, py::arg("F"), py::arg("n_vertices") = py::none(), py::arg("connectivity") = "vertex");
 
   m.def("euler_characteristic", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    py::gil_scoped_release release;
-    return topology::euler_characteristic(map_faces(faces));
+    return without_gil([&] { return topology::euler_characteristic(map_faces(faces)); });
   }, py::arg("F"));
 
   m.def("genus_per_component", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    std::vector<int> genera;
-    {
-      py::gil_scoped_release release;
-      genera = topology::genus_per_component(map_faces(faces));
-    }
+    auto genera = without_gil([&] { return topology::genus_per_component(map_faces(faces)); });
     return int64_vector(genera);
   }, py::arg("F"));
 
   m.def("non_manifold_edges", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    EdgeMatrix result;
-    {
-      py::gil_scoped_release release;
-      result = topology::non_manifold_edges(map_faces(faces));
-    }
+    auto result = without_gil([&] { return topology::non_manifold_edges(map_faces(faces)); });
     return indices_to_numpy(result);
   }, py::arg("F"));
 
   m.def("non_manifold_vertices", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    std::vector<int> result;
-    {
-      py::gil_scoped_release release;
-      result = topology::non_manifold_vertices(map_faces(faces));
-    }
+    auto result = without_gil([&] { return topology::non_manifold_vertices(map_faces(faces)); });
     return int64_vector(result);
   }, py::arg("F"));
 
   m.def("is_manifold", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    py::gil_scoped_release release;
-    return topology::is_manifold(map_faces(faces));
+    return without_gil([&] { return topology::is_manifold(map_faces(faces)); });
   }, py::arg("F"));
 
   m.def("is_oriented", [](const py::object& F) {
     auto faces = as_index_matrix(F, "F", 3);
-    py::gil_scoped_release release;
-    return topology::is_oriented(map_faces(faces));
+    return without_gil([&] { return topology::is_oriented(map_faces(faces)); });
   }, py::arg("F"));
 
   m.def("split_non_manifold_vertices", [](const py::object& V, const py::object& F) {
-    auto vertices = as_real_matrix(V, "V", 3);
-    auto faces = as_index_matrix(F, "F", 3);
-    topology::SplitMesh split;
-    {
-      py::gil_scoped_release release;
-      split = topology::split_non_manifold_vertices(map_vertices(vertices), map_faces(faces));
-    }
+    const MeshArguments mesh(V, F);
+    auto split = without_gil([&] { return topology::split_non_manifold_vertices(mesh.V(), mesh.F()); });
     return py::make_tuple(to_numpy(std::move(split.V)), indices_to_numpy(split.F),
                           int64_vector(split.origin));
   }, py::arg("V"), py::arg("F"));
 
   m.def("mesh_info", [](const py::object& V, const py::object& F) {
-    auto vertices = as_real_matrix(V, "V", 3);
-    auto faces = as_index_matrix(F, "F", 3);
-    topology::MeshInfo info;
-    {
-      py::gil_scoped_release release;
-      info = topology::mesh_info(map_vertices(vertices), map_faces(faces));
-    }
+    const MeshArguments mesh(V, F);
+    auto info = without_gil([&] { return topology::mesh_info(mesh.V(), mesh.F()); });
     py::dict out;
     out["n_vertices"] = info.n_vertices;
     out["n_faces"] = info.n_faces;

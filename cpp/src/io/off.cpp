@@ -181,15 +181,7 @@ std::string format_off(const PolygonMesh& mesh, bool binary) {
     out.number(mesh.V(i, 1)); out.character(' ');
     out.number(mesh.V(i, 2)); out.character('\n');
   }
-  for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
-    const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
-    out.number(end - begin);
-    for (std::int64_t k = begin; k < end; ++k) {
-      out.character(' ');
-      out.number(mesh.face_vertices[k]);
-    }
-    out.character('\n');
-  }
+  append_face_lines(out, mesh);
   return out.take();
 }
 

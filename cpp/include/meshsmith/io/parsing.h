@@ -6,6 +6,7 @@
 /// an output buffer with exact shortest-round-trip number printing. Used by cpp/src/io only;
 /// exported because it is small and useful to C++ users writing their own readers.
 #include <meshsmith/core/errors.h>
+#include <meshsmith/io/mesh_io.h>
 
 #include <algorithm>
 #include <charconv>
@@ -350,5 +351,19 @@ class OutputBuffer {
   std::string data_;
   std::size_t used_ = 0;
 };
+
+/// Appends one text line "count i j k ..." per face of `mesh`: the face records of ASCII OFF
+/// and of ASCII PLY's vertex_indices lists.
+inline void append_face_lines(OutputBuffer& out, const PolygonMesh& mesh) {
+  for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
+    const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    out.number(end - begin);
+    for (std::int64_t k = begin; k < end; ++k) {
+      out.character(' ');
+      out.number(mesh.face_vertices[k]);
+    }
+    out.character('\n');
+  }
+}
 
 }  // namespace meshsmith::io
