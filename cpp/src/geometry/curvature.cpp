@@ -50,56 +50,68 @@ std::vector<char> boundary_vertices(const FaceRef& F, const detail::VertexCorner
   return boundary;
 }
 
-// ½ L V at every vertex, gathered from the half cotangents of the corners around it.
-VertexMatrix half_laplacian_of_positions(const VertexRef& V, const FaceRef& F,
-                                         const detail::VertexCorners& corners) {
-  const detail::CornerMatrix C = detail::half_cotangents(V, F);
-  VertexMatrix LV(V.rows(), 3);
-  detail::parallel_for(V.rows(), [&](Eigen::Index v) {
-    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-    for (auto k = corners.begin(v); k < corners.end(v); ++k) {
-      const int f = corners.corners[k] / 3, c = corners.corners[k] % 3;
-      const int next = (c + 1) % 3, prev = (c + 2) % 3;
-      sum += C(f, prev) * (V.row(F(f, next)) - V.row(v)) + C(f, next) * (V.row(F(f, prev)) - V.row(v));
-    }
-    LV.row(v) = 0.5 * sum;
-  });
-  return LV;
-}
-
-Eigen::VectorXd angle_defects(const VertexRef& V, const FaceRef& F, const detail::VertexCorners& corners,
-                              const GaussianCurvatureOptions& options) {
-  const Eigen::VectorXd angle_sums = detail::sum_at_vertices(corners, detail::corner_angles(V, F));
-  Eigen::VectorXd K = Eigen::VectorXd::Constant(V.rows(), 2.0 * M_PI) - angle_sums;
+Eigen::VectorXd angle_defects(const VertexRef& V, const FaceRef& F, const GaussianCurvatureOptions& options) {
+  // Per vertex: (Σθ, area) in one pass over the faces.
+  const auto rule = area_rule(options.area);
+  const bool with_area = options.pointwise;
+  const detail::VertexSums<2> sums =
+      detail::accumulate_at_vertices<2>(F, V.rows(), [&](Eigen::Index f, double (*out)[2]) {
+        const detail::Triangle t = detail::triangle(V, F, f);
+        double angles[3], areas[3] = {0.0, 0.0, 0.0};
+        detail::triangle_angles(t, angles);
+        if (with_area) detail::triangle_corner_areas(t, rule, areas);
+        for (int c = 0; c < 3; ++c) {
+          out[c][0] = angles[c];
+          out[c][1] = areas[c];
+        }
+      });
+  Eigen::VectorXd K = Eigen::VectorXd::Constant(V.rows(), 2.0 * M_PI) - sums.col(0);
   if (options.boundary == BoundaryAngle::half_turn) {
-    const std::vector<char> boundary = boundary_vertices(F, corners);
+    const std::vector<char> boundary = boundary_vertices(F, detail::vertex_corners(F, V.rows()));
     for (Eigen::Index v = 0; v < V.rows(); ++v) {
       if (boundary[v]) K[v] -= M_PI;
     }
   }
   if (options.pointwise) {
-    const Eigen::VectorXd areas =
-        detail::sum_at_vertices(corners, detail::corner_areas(V, F, area_rule(options.area)));
-    for (Eigen::Index v = 0; v < V.rows(); ++v) K[v] = areas[v] > 0.0 ? K[v] / areas[v] : 0.0;
+    for (Eigen::Index v = 0; v < V.rows(); ++v) K[v] = sums(v, 1) > 0.0 ? K[v] / sums(v, 1) : 0.0;
   }
   return K;
 }
 
-MeanCurvature mean_curvature_from(const VertexRef& V, const FaceRef& F, const detail::VertexCorners& corners,
-                                  MassMatrixType area) {
-  const VertexMatrix half_LV = half_laplacian_of_positions(V, F, corners);
-  const Eigen::VectorXd areas = detail::sum_at_vertices(corners, detail::corner_areas(V, F, area_rule(area)));
+MeanCurvature mean_curvature_of(const VertexRef& V, const FaceRef& F, MassMatrixType area) {
+  // Per vertex: (½ L V, area) in one pass over the faces. Edge (c, next) of a face carries
+  // ½ cot of the angle at prev, so corner c receives ½ cot_prev (p_next − p_c) + ½ cot_next (p_prev − p_c).
+  const auto rule = area_rule(area);
+  const detail::VertexSums<4> sums =
+      detail::accumulate_at_vertices<4>(F, V.rows(), [&](Eigen::Index f, double (*out)[4]) {
+        const detail::Triangle t = detail::triangle(V, F, f);
+        double areas[3];
+        detail::triangle_corner_areas(t, rule, areas);
+        for (int c = 0; c < 3; ++c) {
+          const int next = (c + 1) % 3, prev = (c + 2) % 3;
+          Eigen::Vector3d half_laplacian = Eigen::Vector3d::Zero();
+          if (!t.degenerate) {
+            half_laplacian = (0.25 / t.double_area) *
+                             (t.dot[prev] * (t.p[next] - t.p[c]) + t.dot[next] * (t.p[prev] - t.p[c]));
+          }
+          out[c][0] = half_laplacian[0];
+          out[c][1] = half_laplacian[1];
+          out[c][2] = half_laplacian[2];
+          out[c][3] = areas[c];
+        }
+      });
   const VertexMatrix normals = vertex_normals(V, F, NormalWeighting::angle);
   MeanCurvature result;
   result.H.resize(V.rows());
   result.Hn.resize(V.rows(), 3);
   detail::parallel_for(V.rows(), [&](Eigen::Index v) {
-    if (!(areas[v] > 0.0)) {
+    const double vertex_area = sums(v, 3);
+    if (!(vertex_area > 0.0)) {
       result.H[v] = 0.0;
       result.Hn.row(v).setZero();
       return;
     }
-    result.Hn.row(v) = -half_LV.row(v) / areas[v];
+    result.Hn.row(v) = -sums.row(v).head<3>() / vertex_area;
     const double magnitude = result.Hn.row(v).norm();
     result.H[v] = result.Hn.row(v).dot(normals.row(v)) < 0.0 ? -magnitude : magnitude;
   });
@@ -202,12 +214,12 @@ void quadric_fit_curvatures(const VertexRef& V, const FaceRef& F, const detail::
 Eigen::VectorXd gaussian_curvature(const VertexRef& V, const FaceRef& F,
                                    const GaussianCurvatureOptions& options) {
   detail::validate_surface(V, F);
-  return angle_defects(V, F, detail::vertex_corners(F, V.rows()), options);
+  return angle_defects(V, F, options);
 }
 
 MeanCurvature mean_curvature(const VertexRef& V, const FaceRef& F, MassMatrixType area) {
   detail::validate_surface(V, F);
-  return mean_curvature_from(V, F, detail::vertex_corners(F, V.rows()), area);
+  return mean_curvature_of(V, F, area);
 }
 
 PrincipalCurvatures principal_curvatures(const VertexRef& V, const FaceRef& F,
@@ -311,8 +323,8 @@ PrincipalCurvatures principal_curvatures(const VertexRef& V, const FaceRef& F,
   if (method == PrincipalCurvatureMethod::mean_gaussian) {
     GaussianCurvatureOptions pointwise;
     pointwise.pointwise = true;
-    const Eigen::VectorXd K = angle_defects(V, F, corners, pointwise);
-    const MeanCurvature mean = mean_curvature_from(V, F, corners, MassMatrixType::voronoi);
+    const Eigen::VectorXd K = angle_defects(V, F, pointwise);
+    const MeanCurvature mean = mean_curvature_of(V, F, MassMatrixType::voronoi);
     for (Eigen::Index v = 0; v < n; ++v) {
       const double spread = std::sqrt(std::max(mean.H[v] * mean.H[v] - K[v], 0.0));
       result.k1[v] = mean.H[v] + spread;

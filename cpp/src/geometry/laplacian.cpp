@@ -86,7 +86,11 @@ Eigen::VectorXd vertex_areas(const VertexRef& V, const FaceRef& F, MassMatrixTyp
   detail::validate_surface(V, F);
   const auto rule = type == MassMatrixType::barycentric ? detail::CornerAreaRule::barycentric
                                                         : detail::CornerAreaRule::mixed_voronoi;
-  return detail::sum_at_vertices(detail::vertex_corners(F, V.rows()), detail::corner_areas(V, F, rule));
+  return detail::accumulate_at_vertices<1>(F, V.rows(), [&](Eigen::Index f, double (*out)[1]) {
+    double areas[3];
+    detail::triangle_corner_areas(detail::triangle(V, F, f), rule, areas);
+    for (int c = 0; c < 3; ++c) out[c][0] = areas[c];
+  });
 }
 
 Eigen::SparseMatrix<double> mass_matrix(const VertexRef& V, const FaceRef& F, MassMatrixType type) {

@@ -4,52 +4,40 @@
 
 namespace meshsmith::geometry {
 
-namespace {
-
-VertexMatrix unit_face_normals(const VertexRef& V, const FaceRef& F, detail::CornerMatrix* weights,
-                               NormalWeighting weighting) {
+VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
+  detail::validate_surface(V, F);
   VertexMatrix N(F.rows(), 3);
   detail::parallel_for(F.rows(), [&](Eigen::Index f) {
     const detail::Triangle t = detail::triangle(V, F, f);
     if (t.degenerate) {
       N.row(f).setZero();
-      if (weights) weights->row(f).setZero();
-      return;
-    }
-    N.row(f) = (t.cross / t.double_area).transpose();
-    if (!weights) return;
-    for (int c = 0; c < 3; ++c) {
-      switch (weighting) {
-        case NormalWeighting::uniform: (*weights)(f, c) = 1.0; break;
-        case NormalWeighting::area: (*weights)(f, c) = t.double_area; break;
-        case NormalWeighting::angle: (*weights)(f, c) = detail::corner_angle(t, c); break;
-      }
+    } else {
+      N.row(f) = (t.cross / t.double_area).transpose();
     }
   });
   return N;
 }
 
-}  // namespace
-
-VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
-  detail::validate_surface(V, F);
-  return unit_face_normals(V, F, nullptr, NormalWeighting::uniform);
-}
-
 VertexMatrix vertex_normals(const VertexRef& V, const FaceRef& F, NormalWeighting weighting) {
   detail::validate_surface(V, F);
-  detail::CornerMatrix weights(F.rows(), 3);
-  const VertexMatrix face = unit_face_normals(V, F, &weights, weighting);
-  const detail::VertexCorners corners = detail::vertex_corners(F, V.rows());
-  VertexMatrix N(V.rows(), 3);
-  detail::parallel_for(V.rows(), [&](Eigen::Index v) {
-    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-    for (auto k = corners.begin(v); k < corners.end(v); ++k) {
-      const int corner = corners.corners[k];
-      sum += weights(corner / 3, corner % 3) * face.row(corner / 3);
+  VertexMatrix N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
+    const detail::Triangle t = detail::triangle(V, F, f);
+    double weights[3] = {0.0, 0.0, 0.0};
+    if (!t.degenerate) {
+      switch (weighting) {
+        case NormalWeighting::uniform: weights[0] = weights[1] = weights[2] = 1.0; break;
+        case NormalWeighting::area: weights[0] = weights[1] = weights[2] = t.double_area; break;
+        case NormalWeighting::angle: detail::triangle_angles(t, weights); break;
+      }
     }
-    const double norm = sum.norm();
-    N.row(v) = norm > 0.0 ? (sum / norm).eval() : sum;
+    const Eigen::Vector3d normal = t.degenerate ? Eigen::Vector3d::Zero() : (t.cross / t.double_area).eval();
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * normal[k];
+    }
+  });
+  detail::parallel_for(V.rows(), [&](Eigen::Index v) {
+    const double norm = N.row(v).norm();
+    if (norm > 0.0) N.row(v) /= norm;
   });
   return N;
 }

@@ -26,12 +26,15 @@ VertexCorners vertex_corners(const FaceRef& F, Eigen::Index n) {
   VertexCorners result;
   result.offsets.assign(n + 1, 0);
   const Eigen::Index m = F.rows();
-  const int* faces = F.data();  // row-major: corner k of the flat array is 3·f + c
-  for (Eigen::Index k = 0; k < 3 * m; ++k) ++result.offsets[faces[k] + 1];
+  for (Eigen::Index f = 0; f < m; ++f) {
+    for (int c = 0; c < 3; ++c) ++result.offsets[F(f, c) + 1];
+  }
   for (Eigen::Index v = 0; v < n; ++v) result.offsets[v + 1] += result.offsets[v];
   result.corners.resize(3 * m);
   std::vector<std::int64_t> cursor(result.offsets.begin(), result.offsets.end() - 1);
-  for (Eigen::Index k = 0; k < 3 * m; ++k) result.corners[cursor[faces[k]]++] = static_cast<int>(k);
+  for (Eigen::Index f = 0; f < m; ++f) {
+    for (int c = 0; c < 3; ++c) result.corners[cursor[F(f, c)]++] = static_cast<int>(3 * f + c);
+  }
   return result;
 }
 
@@ -62,56 +65,109 @@ CornerMatrix half_cotangents(const VertexRef& V, const FaceRef& F) {
   return C;
 }
 
+namespace {
+
+// atan2(y, x) for y ≥ 0, accurate to ~2 ulp of π and about 3× faster than the C library's
+// (the angle computations dominate Gaussian curvature and angle-weighted normals). Reduction to
+// s ∈ [−tan(π/8), tan(π/8)] with atan(r) = π/4 + atan((r − 1)/(r + 1)), then atan(s) = s·P(s²)
+// with P the degree-10 Chebyshev fit of atan(√u)/√u on [0, tan²(π/8)] (max error 1.1e-16).
+double nonnegative_atan2(double y, double x) {
+  const double ax = std::abs(x);
+  const bool steep = y > ax;
+  const double num = steep ? ax : y, den = steep ? y : ax;
+  if (!(den > 0.0)) return x < 0.0 ? M_PI : 0.0;
+  double s, base;
+  if (num > 0.41421356237309503 * den) {
+    s = (num - den) / (num + den);
+    base = M_PI / 4;
+  } else {
+    s = num / den;
+    base = 0.0;
+  }
+  const double u = s * s;
+  double p = 0.021135373157693246;
+  p = p * u - 0.04348052215716462;
+  p = p * u + 0.056883492268090106;
+  p = p * u - 0.06640233930429408;
+  p = p * u + 0.07689953496306857;
+  p = p * u - 0.09090773074808414;
+  p = p * u + 0.11111106180455946;
+  p = p * u - 0.14285714180976467;
+  p = p * u + 0.1999999999885511;
+  p = p * u - 0.3333333333332844;
+  p = p * u + 1.0;
+  double angle = base + s * p;
+  if (steep) angle = M_PI / 2 - angle;
+  if (x < 0.0) angle = M_PI - angle;
+  return angle;
+}
+
+}  // namespace
+
+double corner_angle(const Triangle& t, int c) { return nonnegative_atan2(t.double_area, t.dot[c]); }
+
+void triangle_angles(const Triangle& t, double angles[3]) {
+  if (t.degenerate) {
+    for (int c = 0; c < 3; ++c) angles[c] = corner_angle(t, c);
+    return;
+  }
+  int largest = 0;  // the corner opposite the longest edge
+  for (int c = 1; c < 3; ++c) {
+    if (t.squared_edge[c] > t.squared_edge[largest]) largest = c;
+  }
+  double rest = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (c == largest) continue;
+    angles[c] = corner_angle(t, c);
+    rest += angles[c];
+  }
+  angles[largest] = M_PI - rest;
+}
+
 CornerMatrix corner_angles(const VertexRef& V, const FaceRef& F) {
   CornerMatrix A(F.rows(), 3);
   parallel_for(F.rows(), [&](Eigen::Index f) {
     const Triangle t = triangle(V, F, f);
-    for (int c = 0; c < 3; ++c) A(f, c) = corner_angle(t, c);
+    triangle_angles(t, &A(f, 0));
   });
   return A;
+}
+
+void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[3]) {
+  const double area = 0.5 * t.double_area;
+  // Degenerate triangles have no circumcentre, and (numerically) no area to share anyway.
+  if (rule == CornerAreaRule::barycentric || t.degenerate) {
+    areas[0] = areas[1] = areas[2] = area / 3.0;
+    return;
+  }
+  int obtuse = -1;
+  for (int c = 0; c < 3; ++c) {
+    if (t.dot[c] < 0.0) obtuse = c;
+  }
+  if (obtuse >= 0) {
+    for (int c = 0; c < 3; ++c) areas[c] = c == obtuse ? 0.5 * area : 0.25 * area;
+    return;
+  }
+  // Voronoi cell of corner c inside the triangle: (|e_next|² cot θ_next + |e_prev|² cot θ_prev) / 8,
+  // e_k the edge opposite corner k, cot θ_k = dot_k / (2·area).
+  for (int c = 0; c < 3; ++c) {
+    const int next = (c + 1) % 3, prev = (c + 2) % 3;
+    areas[c] = (t.squared_edge[next] * t.dot[next] + t.squared_edge[prev] * t.dot[prev]) /
+               (8.0 * t.double_area);
+  }
 }
 
 CornerMatrix corner_areas(const VertexRef& V, const FaceRef& F, CornerAreaRule rule) {
   CornerMatrix A(F.rows(), 3);
-  parallel_for(F.rows(), [&](Eigen::Index f) {
-    const Triangle t = triangle(V, F, f);
-    const double area = 0.5 * t.double_area;
-    if (rule == CornerAreaRule::barycentric) {
-      A.row(f).setConstant(area / 3.0);
-      return;
-    }
-    if (t.degenerate) {  // no circumcentre; the area is (numerically) zero anyway
-      A.row(f).setConstant(area / 3.0);
-      return;
-    }
-    int obtuse = -1;
-    for (int c = 0; c < 3; ++c) {
-      if (t.dot[c] < 0.0) obtuse = c;
-    }
-    if (obtuse >= 0) {
-      for (int c = 0; c < 3; ++c) A(f, c) = c == obtuse ? 0.5 * area : 0.25 * area;
-      return;
-    }
-    // Voronoi cell of corner c inside the triangle: (|e_next|² cot θ_next + |e_prev|² cot θ_prev) / 8,
-    // e_k the edge opposite corner k, cot θ_k = dot_k / (2·area).
-    for (int c = 0; c < 3; ++c) {
-      const int next = (c + 1) % 3, prev = (c + 2) % 3;
-      A(f, c) = (t.squared_edge[next] * t.dot[next] + t.squared_edge[prev] * t.dot[prev]) /
-                (8.0 * t.double_area);
-    }
-  });
+  parallel_for(F.rows(), [&](Eigen::Index f) { triangle_corner_areas(triangle(V, F, f), rule, &A(f, 0)); });
   return A;
 }
 
-Eigen::VectorXd sum_at_vertices(const VertexCorners& corners, const CornerMatrix& values) {
-  const Eigen::Index n = static_cast<Eigen::Index>(corners.offsets.size()) - 1;
-  Eigen::VectorXd sums(n);
-  const double* flat = values.data();
-  parallel_for(n, [&](Eigen::Index v) {
-    double sum = 0.0;
-    for (auto k = corners.begin(v); k < corners.end(v); ++k) sum += flat[corners.corners[k]];
-    sums[v] = sum;
-  });
+Eigen::VectorXd sum_at_vertices(const FaceRef& F, Eigen::Index n, const CornerMatrix& values) {
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) sums[F(f, c)] += values(f, c);
+  }
   return sums;
 }
 

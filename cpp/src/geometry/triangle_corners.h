@@ -2,10 +2,10 @@
 // Internal to the geometry chapter (not installed API): per-triangle corner quantities and the
 // vertex → corner incidence shared by normals, Laplacians, mass matrices and curvatures.
 //
-// Every per-vertex quantity is computed as a gather over the corners around the vertex, in
-// face order, so results are parallel (TBB over faces, then over vertices) and yet bitwise
-// deterministic whatever the thread count: no vertex is ever written by two threads and every
-// sum is taken in the same order.
+// Per-face quantities are computed in parallel (TBB), each face writing its own row; per-vertex
+// sums are then taken in face order, either in one sequential pass or as a parallel gather over
+// the corners around each vertex (also in face order). Results are therefore bitwise
+// deterministic whatever the thread count.
 #include <meshsmith/core/types.h>
 
 #include <Eigen/Core>
@@ -56,8 +56,12 @@ struct Triangle {
 };
 Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f);
 
-/// Interior angle at corner c, atan2(|cross|, dot): accurate for small and large angles alike.
-inline double corner_angle(const Triangle& t, int c) { return std::atan2(t.double_area, t.dot[c]); }
+/// Interior angle at corner c, atan2(|cross|, dot) (a fast, ~2-ulp implementation): accurate for
+/// small and large angles alike, finite for degenerate triangles (0 at a repeated vertex).
+double corner_angle(const Triangle& t, int c);
+/// The three interior angles: the two at the ends of the longest edge by corner_angle, the
+/// largest as π minus the other two (all three by corner_angle on degenerate triangles).
+void triangle_angles(const Triangle& t, double angles[3]);
 
 /// ½ cot of every corner angle (zero on degenerate triangles). #F×3.
 CornerMatrix half_cotangents(const VertexRef& V, const FaceRef& F);
@@ -66,10 +70,46 @@ CornerMatrix corner_angles(const VertexRef& V, const FaceRef& F);
 /// The part of each triangle's area that goes to each corner: a third (barycentric) or the
 /// mixed Voronoi area (Meyer et al. 2003, libigl's rule for obtuse triangles). #F×3.
 enum class CornerAreaRule { barycentric, mixed_voronoi };
+void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[3]);
 CornerMatrix corner_areas(const VertexRef& V, const FaceRef& F, CornerAreaRule rule);
 
-/// Σ over the corners around each vertex of values(face, corner), in face order. #V.
-Eigen::VectorXd sum_at_vertices(const VertexCorners& corners, const CornerMatrix& values);
+/// Σ over the corners of each vertex of values(face, corner): #V values. One sequential pass in
+/// face order (cheaper than any parallel gather for a sum: it streams `values` once).
+Eigen::VectorXd sum_at_vertices(const FaceRef& F, Eigen::Index n, const CornerMatrix& values);
+
+/// Per-vertex sums of per-corner contributions, computed and accumulated in one parallel pass
+/// over the faces, deterministically: the faces are cut into a fixed number of chunks (it
+/// depends on #F only, never on the thread count); each chunk is summed in face order into its
+/// own buffer, and the buffers are added in chunk order. `per_face(f, out)` writes face f's
+/// contribution to its corner c's vertex into out[c][0 .. Width).
+/// Returns #V×Width sums (zero rows for vertices used by no face).
+template <int Width>
+using VertexSums = Eigen::Matrix<double, Eigen::Dynamic, Width, Width == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+template <int Width, typename PerFace>
+VertexSums<Width> accumulate_at_vertices(const FaceRef& F, Eigen::Index n, PerFace&& per_face) {
+  using Sums = VertexSums<Width>;
+  const Eigen::Index m = F.rows();
+  const int chunks = m < 65536 ? 1 : 4;
+  std::vector<Sums> partial(chunks, Sums::Zero(n, Width));
+  tbb::parallel_for(0, chunks, [&](int chunk) {
+    Sums& sums = partial[chunk];
+    const Eigen::Index begin = m * chunk / chunks, end = m * (chunk + 1) / chunks;
+    double out[3][Width];
+    for (Eigen::Index f = begin; f < end; ++f) {
+      per_face(f, out);
+      for (int c = 0; c < 3; ++c) {
+        double* row = sums.data() + static_cast<Eigen::Index>(F(f, c)) * Width;
+        for (int w = 0; w < Width; ++w) row[w] += out[c][w];
+      }
+    }
+  });
+  if (chunks > 1) {
+    parallel_for(n, [&](Eigen::Index v) {
+      for (int chunk = 1; chunk < chunks; ++chunk) partial[0].row(v) += partial[chunk].row(v);
+    }, 8192);
+  }
+  return std::move(partial[0]);
+}
 
 /// Laplacian-shaped #V×#V CSC matrix from directed per-face weights: L(i, j) is the sum over
 /// the faces with edge ij of the weight of i towards j, L(i, i) = −Σ_j L(i, j). With `weights`
