@@ -56,15 +56,6 @@ Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
   return t;
 }
 
-CornerMatrix half_cotangents(const VertexRef& V, const FaceRef& F) {
-  CornerMatrix C(F.rows(), 3);
-  parallel_for(F.rows(), [&](Eigen::Index f) {
-    const Triangle t = triangle(V, F, f);
-    for (int c = 0; c < 3; ++c) C(f, c) = t.degenerate ? 0.0 : 0.5 * t.dot[c] / t.double_area;
-  });
-  return C;
-}
-
 namespace {
 
 // atan2(y, x) for y ≥ 0, accurate to ~2 ulp of π and about 3× faster than the C library's
@@ -124,15 +115,6 @@ void triangle_angles(const Triangle& t, double angles[3]) {
   angles[largest] = M_PI - rest;
 }
 
-CornerMatrix corner_angles(const VertexRef& V, const FaceRef& F) {
-  CornerMatrix A(F.rows(), 3);
-  parallel_for(F.rows(), [&](Eigen::Index f) {
-    const Triangle t = triangle(V, F, f);
-    triangle_angles(t, &A(f, 0));
-  });
-  return A;
-}
-
 void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[3]) {
   const double area = 0.5 * t.double_area;
   // Degenerate triangles have no circumcentre, and (numerically) no area to share anyway.
@@ -161,14 +143,6 @@ CornerMatrix corner_areas(const VertexRef& V, const FaceRef& F, CornerAreaRule r
   CornerMatrix A(F.rows(), 3);
   parallel_for(F.rows(), [&](Eigen::Index f) { triangle_corner_areas(triangle(V, F, f), rule, &A(f, 0)); });
   return A;
-}
-
-Eigen::VectorXd sum_at_vertices(const FaceRef& F, Eigen::Index n, const CornerMatrix& values) {
-  Eigen::VectorXd sums = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) sums[F(f, c)] += values(f, c);
-  }
-  return sums;
 }
 
 namespace {

@@ -2,10 +2,10 @@
 // Internal to the geometry chapter (not installed API): per-triangle corner quantities and the
 // vertex → corner incidence shared by normals, Laplacians, mass matrices and curvatures.
 //
-// Per-face quantities are computed in parallel (TBB), each face writing its own row; per-vertex
-// sums are then taken in face order, either in one sequential pass or as a parallel gather over
-// the corners around each vertex (also in face order). Results are therefore bitwise
-// deterministic whatever the thread count.
+// Per-face quantities are computed in parallel (TBB). Per-vertex sums are taken either by
+// accumulate_at_vertices (fixed face chunks, each summed in face order into its own buffer) or
+// as a parallel gather over the corners around each vertex (in face order). Neither depends on
+// the thread count, so results are bitwise deterministic on any machine.
 #include <meshsmith/core/types.h>
 
 #include <Eigen/Core>
@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -63,19 +64,12 @@ double corner_angle(const Triangle& t, int c);
 /// largest as π minus the other two (all three by corner_angle on degenerate triangles).
 void triangle_angles(const Triangle& t, double angles[3]);
 
-/// ½ cot of every corner angle (zero on degenerate triangles). #F×3.
-CornerMatrix half_cotangents(const VertexRef& V, const FaceRef& F);
-/// Interior angle of every corner (finite for degenerate triangles too). #F×3.
-CornerMatrix corner_angles(const VertexRef& V, const FaceRef& F);
 /// The part of each triangle's area that goes to each corner: a third (barycentric) or the
 /// mixed Voronoi area (Meyer et al. 2003, libigl's rule for obtuse triangles). #F×3.
 enum class CornerAreaRule { barycentric, mixed_voronoi };
 void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[3]);
 CornerMatrix corner_areas(const VertexRef& V, const FaceRef& F, CornerAreaRule rule);
 
-/// Σ over the corners of each vertex of values(face, corner): #V values. One sequential pass in
-/// face order (cheaper than any parallel gather for a sum: it streams `values` once).
-Eigen::VectorXd sum_at_vertices(const FaceRef& F, Eigen::Index n, const CornerMatrix& values);
 
 /// Per-vertex sums of per-corner contributions, computed and accumulated in one parallel pass
 /// over the faces, deterministically: the faces are cut into a fixed number of chunks (it
@@ -89,7 +83,8 @@ template <int Width, typename PerFace>
 VertexSums<Width> accumulate_at_vertices(const FaceRef& F, Eigen::Index n, PerFace&& per_face) {
   using Sums = VertexSums<Width>;
   const Eigen::Index m = F.rows();
-  const int chunks = m < 65536 ? 1 : 4;
+  // One chunk per 2^19 faces (at least 2, at most 8), one buffer of #V×Width per chunk.
+  const int chunks = m < 65536 ? 1 : static_cast<int>(std::clamp<Eigen::Index>(m >> 19, 2, 8));
   std::vector<Sums> partial(chunks, Sums::Zero(n, Width));
   tbb::parallel_for(0, chunks, [&](int chunk) {
     Sums& sums = partial[chunk];
