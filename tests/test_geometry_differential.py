@@ -184,7 +184,8 @@ def test_uniform_laplacian_is_adjacency_minus_degree(shared_mesh):
     expected = A - scipy.sparse.diags(np.asarray(A.sum(axis=1)).ravel())
     L = geometry.uniform_laplacian(F, len(V))
     assert abs(L - expected).max() == 0
-    assert abs(geometry.uniform_laplacian(F, V=V) - L).max() == 0
+    assert abs(geometry.uniform_laplacian(V, F) - L).max() == 0
+    assert abs(geometry.uniform_laplacian(F) - L).max() == 0  # n = F.max() + 1 (all vertices used)
     U = geometry.uniform_laplacian(F, len(V), normalized=True)
     np.testing.assert_allclose(U.diagonal(), -1.0)
     np.testing.assert_allclose(U @ np.ones(len(V)), 0.0, atol=1e-12)
@@ -370,7 +371,7 @@ ALL_MESH_FUNCTIONS = [
     geometry.mean_value_laplacian, geometry.mass_matrix, geometry.vertex_areas,
     geometry.gaussian_curvature, geometry.mean_curvature, geometry.principal_curvatures,
     lambda V, F: geometry.laplacian_eigenpairs(V, F, 2),
-    lambda V, F: geometry.uniform_laplacian(F, V=V),
+    geometry.uniform_laplacian,
 ]
 
 

@@ -77,26 +77,27 @@ def cotan_laplacian(V, F) -> scipy.sparse.csc_matrix:
     return _csc(_core.cotan_laplacian(V, F))
 
 
-def uniform_laplacian(F, n: int | None = None, *, normalized: bool = False,
-                      V=None) -> scipy.sparse.csc_matrix:
+def uniform_laplacian(first, second=None, *, normalized: bool = False) -> scipy.sparse.csc_matrix:
     """Graph Laplacian with uniform weights (§3.0.2): ``L[i, j] = 1`` per edge, ``L[i, i] = -deg(i)``.
 
-    F: (m, 3) int array. n: the number of vertices (default: ``len(V)`` when V is given, else
-    ``F.max() + 1``). V: optional (n, 3) vertex array, used only for its length (and
-    validated), so ``uniform_laplacian(F, V=V)`` mirrors the other Laplacians. With
+    Call as ``uniform_laplacian(F, n)`` (F: (m, 3) int array, n: the number of vertices,
+    default ``F.max() + 1``) or as ``uniform_laplacian(V, F)`` like the other Laplacians (V:
+    (n, 3) float array, validated together with F, only its length is used). With
     ``normalized=True`` each row is divided by the vertex degree: ``L[i, j] = 1/|N1(i)|``,
     ``L[i, i] = -1`` (the umbrella operator; not symmetric). Returns an (n, n)
     ``scipy.sparse.csc_matrix``; a vertex used by no face has a zero row and column.
 
-    Raises InputError for an empty F, n < 1, or an index of F outside ``[0, n)``.
+    Raises InputError for an empty F, n < 1, an index of F outside ``[0, n)``, or bad V.
     """
-    if V is not None:
+    if second is not None and np.ndim(second) == 2:  # (V, F)
+        V, F = first, second
         _core_checks.validate_mesh(V, F)
+        n = len(V)
+    else:
+        F, n = first, second
         if n is None:
-            n = len(V)
-    if n is None:
-        faces = np.asarray(F)
-        n = int(faces.max()) + 1 if faces.size and np.issubdtype(faces.dtype, np.integer) else 0
+            faces = np.asarray(F)
+            n = int(faces.max()) + 1 if faces.size and np.issubdtype(faces.dtype, np.integer) else 1
     return _csc(_core.uniform_laplacian(F, int(n), bool(normalized)))
 
 
