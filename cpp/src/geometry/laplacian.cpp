@@ -10,19 +10,15 @@ namespace meshsmith::geometry {
 
 Eigen::SparseMatrix<double> cotan_laplacian(const VertexRef& V, const FaceRef& F) {
   detail::validate_surface(V, F);
-  // Edge (c, next) is opposite corner prev: both directions get ½ cot of the angle there.
-  detail::DirectedWeights W(F.rows(), 6);
+  // The edge opposite corner c gets ½ cot of the angle at c, in both directions.
+  detail::CornerMatrix half_cotangents(F.rows(), 3);
   detail::parallel_for(F.rows(), [&](Eigen::Index f) {
     const detail::Triangle t = detail::triangle(V, F, f);
-    for (int c = 0; c < 3; ++c) {
-      const int next = (c + 1) % 3, prev = (c + 2) % 3;
-      const double half_cot_prev = t.degenerate ? 0.0 : 0.5 * t.dot[prev] / t.double_area;
-      const double half_cot_next = t.degenerate ? 0.0 : 0.5 * t.dot[next] / t.double_area;
-      W(f, 2 * c) = half_cot_prev;
-      W(f, 2 * c + 1) = half_cot_next;
-    }
+    for (int c = 0; c < 3; ++c) half_cotangents(f, c) = t.degenerate ? 0.0 : 0.5 * t.dot[c] / t.double_area;
   });
-  return detail::assemble_laplacian(F, detail::vertex_corners(F, V.rows()), &W);
+  detail::LaplacianWeights weights;
+  weights.symmetric = &half_cotangents;
+  return detail::assemble_laplacian(F, detail::vertex_corners(F, V.rows()), weights);
 }
 
 Eigen::SparseMatrix<double> uniform_laplacian(const FaceRef& F, Eigen::Index n, bool normalized) {
@@ -41,7 +37,7 @@ Eigen::SparseMatrix<double> uniform_laplacian(const FaceRef& F, Eigen::Index n, 
       }
     }
   }
-  Eigen::SparseMatrix<double> L = detail::assemble_laplacian(F, detail::vertex_corners(F, n), nullptr);
+  Eigen::SparseMatrix<double> L = detail::assemble_laplacian(F, detail::vertex_corners(F, n), {});
   if (normalized) {
     // The pattern is symmetric, so the degree of vertex i is the entry count of column i − 1.
     Eigen::VectorXd inverse_degree(n);
@@ -79,7 +75,9 @@ Eigen::SparseMatrix<double> mean_value_laplacian(const VertexRef& V, const FaceR
       W(f, 2 * c + 1) = half_angle_tangent / to_prev;
     }
   });
-  return detail::assemble_laplacian(F, detail::vertex_corners(F, V.rows()), &W);
+  detail::LaplacianWeights weights;
+  weights.directed = &W;
+  return detail::assemble_laplacian(F, detail::vertex_corners(F, V.rows()), weights);
 }
 
 Eigen::VectorXd vertex_areas(const VertexRef& V, const FaceRef& F, MassMatrixType type) {
