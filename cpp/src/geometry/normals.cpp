@@ -22,17 +22,20 @@ VertexMatrix vertex_normals(const VertexRef& V, const FaceRef& F, NormalWeightin
   detail::validate_surface(V, F);
   VertexMatrix N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
     const detail::Triangle t = detail::triangle(V, F, f);
+    // Each corner receives weight · unit normal; for area weighting (weight 2·area) that is the
+    // cross product itself. Degenerate faces contribute nothing.
     double weights[3] = {0.0, 0.0, 0.0};
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
     if (!t.degenerate) {
+      direction = weighting == NormalWeighting::area ? t.cross : (t.cross / t.double_area).eval();
       switch (weighting) {
-        case NormalWeighting::uniform: weights[0] = weights[1] = weights[2] = 1.0; break;
-        case NormalWeighting::area: weights[0] = weights[1] = weights[2] = t.double_area; break;
+        case NormalWeighting::uniform:
+        case NormalWeighting::area: weights[0] = weights[1] = weights[2] = 1.0; break;
         case NormalWeighting::angle: detail::triangle_angles(t, weights); break;
       }
     }
-    const Eigen::Vector3d normal = t.degenerate ? Eigen::Vector3d::Zero() : (t.cross / t.double_area).eval();
     for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * normal[k];
+      for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * direction[k];
     }
   });
   detail::parallel_for(V.rows(), [&](Eigen::Index v) {

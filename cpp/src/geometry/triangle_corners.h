@@ -85,9 +85,10 @@ VertexSums<Width> accumulate_at_vertices(const FaceRef& F, Eigen::Index n, PerFa
   const Eigen::Index m = F.rows();
   // One chunk per 2^19 faces (at least 2, at most 8), one buffer of #V×Width per chunk.
   const int chunks = m < 65536 ? 1 : static_cast<int>(std::clamp<Eigen::Index>(m >> 19, 2, 8));
-  std::vector<Sums> partial(chunks, Sums::Zero(n, Width));
+  std::vector<Sums> partial(chunks);
   tbb::parallel_for(0, chunks, [&](int chunk) {
     Sums& sums = partial[chunk];
+    sums.setZero(n, Width);  // here, so that each buffer is zeroed (and first touched) in parallel
     const Eigen::Index begin = m * chunk / chunks, end = m * (chunk + 1) / chunks;
     double out[3][Width];
     for (Eigen::Index f = begin; f < end; ++f) {
