@@ -26,7 +26,8 @@ Eigen::SparseMatrix<double> cotan_laplacian(const VertexRef& V, const FaceRef& F
 
 /// Graph (uniform-weight) Laplacian (§3.0.2 uniform weights): L_ij = 1 for every edge ij,
 /// L_ii = −deg(i). With `normalized` the rows are divided by the vertex degree (L_ij = 1/|N1(i)|,
-/// L_ii = −1: the umbrella operator; not symmetric). Vertices used by no face have an empty row.
+/// L_ii = −1: the umbrella operator; not symmetric). A vertex used by no face has a zero row and
+/// column (its diagonal entry is stored, as 0).
 /// F: #F×3, n: #V (≥ every index of F + 1). Returns n×n.
 /// \throw InputError if F is empty, n < 1 or an index of F is outside [0, n).
 Eigen::SparseMatrix<double> uniform_laplacian(const FaceRef& F, Eigen::Index n, bool normalized = false);
