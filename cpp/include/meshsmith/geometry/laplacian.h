@@ -3,8 +3,9 @@
 /// Discrete Laplace operators and mass matrices of triangle meshes (§1.2.4 "Discrete
 /// Curvature", L = Hn = Σ ω_i (p_i − p); §3.0.2 uniform, cot and mean-value weights).
 ///
-/// Sign convention (libigl's): every Laplacian L here has L_ij = w_ij ≥ 0-ish off the diagonal
-/// and L_ii = −Σ_j L_ij, so L·1 = 0 and the cotangent Laplacian is negative semi-definite.
+/// Sign convention (libigl's): every Laplacian L here has L_ij = w_ij, the edge weight, off the
+/// diagonal and L_ii = −Σ_j L_ij, so L·1 = 0 and the cotangent Laplacian is negative
+/// semi-definite.
 /// Matrices are #V×#V, column-major (CSC) with sorted row indices and no duplicate entries;
 /// they are assembled column by column (in parallel, deterministically) without triplets.
 #include <meshsmith/core/types.h>
