@@ -22,6 +22,8 @@ void bind_geometry(py::module_& m) {
     const MeshArguments mesh(V, F);
     return without_gil([&] { return geometry::volume(mesh.V(), mesh.F()); });
   }, py::arg("V"), py::arg("F"));
+
+  bind_geometry_differential(m);  // geometry_differential.cpp: normals, Laplacians, curvature
 }
 
 }  // namespace meshsmith::python

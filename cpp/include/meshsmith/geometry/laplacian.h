@@ -1,0 +1,63 @@
+#pragma once
+/// \file laplacian.h
+/// Discrete Laplace operators and mass matrices of triangle meshes (§1.2.4 "Discrete
+/// Curvature", L = Hn = Σ ω_i (p_i − p); §3.0.2 uniform, cot and mean-value weights).
+///
+/// Sign convention (libigl's): every Laplacian L here has L_ij = w_ij, the edge weight, off the
+/// diagonal and L_ii = −Σ_j L_ij, so L·1 = 0 and the cotangent Laplacian is negative
+/// semi-definite.
+/// Matrices are #V×#V, column-major (CSC) with sorted row indices and no duplicate entries;
+/// they are assembled column by column (in parallel, deterministically) without triplets.
+#include <meshsmith/core/types.h>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace meshsmith::geometry {
+
+/// Cotangent Laplacian (§3.0.2 cot-weights; Pinkall & Polthier 1993, Meyer et al. 2003):
+/// L_ij = ½ (cot α_ij + cot β_ij) for every edge ij, α, β the angles opposite the edge
+/// (one angle on a boundary edge), L_ii = −Σ_j L_ij. Symmetric, negative semi-definite when all
+/// weights are positive; has linear precision (L·f = 0 at interior vertices of a planar mesh for
+/// f linear). Equals libigl's cotmatrix to round-off.
+/// V: #V×3, F: #F×3. Returns #V×#V. A degenerate triangle (twice its area ≤ 8·ε·(longest
+/// edge)²) contributes nothing: its cotangents are set to zero instead of ±∞.
+/// \throw InputError if V or F is empty, V holds NaN/Inf or F indexes outside [0, #V).
+Eigen::SparseMatrix<double> cotan_laplacian(const VertexRef& V, const FaceRef& F);
+
+/// Graph (uniform-weight) Laplacian (§3.0.2 uniform weights): L_ij = 1 for every edge ij,
+/// L_ii = −deg(i). With `normalized` the rows are divided by the vertex degree (L_ij = 1/|N1(i)|,
+/// L_ii = −1: the umbrella operator; not symmetric). A vertex used by no face has a zero row and
+/// column (its diagonal entry is stored, as 0).
+/// F: #F×3, n: #V (≥ every index of F + 1). Returns n×n.
+/// \throw InputError if F is empty, n < 1 or an index of F is outside [0, n).
+Eigen::SparseMatrix<double> uniform_laplacian(const FaceRef& F, Eigen::Index n, bool normalized = false);
+
+/// Mean-value Laplacian (§3.0.2 mean value weights; Floater 2003): L_ij = (tan(α_ij/2) +
+/// tan(β_ij/2)) / |p_j − p_i|, where α_ij, β_ij are the angles at vertex i in the two triangles
+/// sharing edge ij (one on a boundary edge); L_ii = −Σ_j L_ij. Weights are positive for any
+/// triangle; the operator has linear precision but is NOT symmetric (row i holds i's weights).
+/// V: #V×3, F: #F×3. Returns #V×#V. Degenerate triangles and zero-length edges contribute nothing.
+/// \throw InputError as cotan_laplacian.
+Eigen::SparseMatrix<double> mean_value_laplacian(const VertexRef& V, const FaceRef& F);
+
+/// Lumped (diagonal) mass matrices.
+enum class MassMatrixType {
+  barycentric,  ///< a third of the area of every incident triangle (libigl MASSMATRIX_TYPE_BARYCENTRIC)
+  voronoi,      ///< mixed Voronoi area (Meyer et al. 2003): the Voronoi cell inside non-obtuse
+                ///< triangles; for an obtuse triangle half its area to the obtuse corner and a
+                ///< quarter to each other corner (libigl MASSMATRIX_TYPE_VORONOI)
+};
+
+/// The area associated with every vertex (the diagonal of mass_matrix). V: #V×3, F: #F×3.
+/// Returns #V values, summing to the surface area; 0 for vertices used by no face.
+/// \throw InputError as cotan_laplacian.
+Eigen::VectorXd vertex_areas(const VertexRef& V, const FaceRef& F,
+                             MassMatrixType type = MassMatrixType::voronoi);
+
+/// Diagonal mass matrix M = diag(vertex_areas(V, F, type)), #V×#V; equals libigl's massmatrix.
+/// \throw InputError as cotan_laplacian.
+Eigen::SparseMatrix<double> mass_matrix(const VertexRef& V, const FaceRef& F,
+                                        MassMatrixType type = MassMatrixType::voronoi);
+
+}  // namespace meshsmith::geometry

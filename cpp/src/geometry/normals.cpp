@@ -1,0 +1,48 @@
+#include <meshsmith/geometry/normals.h>
+
+#include "triangle_corners.h"
+
+namespace meshsmith::geometry {
+
+VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
+  detail::validate_surface(V, F);
+  VertexMatrix N(F.rows(), 3);
+  detail::parallel_for(F.rows(), [&](Eigen::Index f) {
+    const detail::Triangle t = detail::triangle(V, F, f);
+    if (t.degenerate) {
+      N.row(f).setZero();
+    } else {
+      N.row(f) = (t.cross / t.double_area).transpose();
+    }
+  });
+  return N;
+}
+
+VertexMatrix vertex_normals(const VertexRef& V, const FaceRef& F, NormalWeighting weighting) {
+  detail::validate_surface(V, F);
+  VertexMatrix N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
+    const detail::Triangle t = detail::triangle(V, F, f);
+    // Each corner receives weight · unit normal; for area weighting (weight 2·area) that is the
+    // cross product itself. Degenerate faces contribute nothing.
+    double weights[3] = {0.0, 0.0, 0.0};
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+    if (!t.degenerate) {
+      direction = weighting == NormalWeighting::area ? t.cross : (t.cross / t.double_area).eval();
+      switch (weighting) {
+        case NormalWeighting::uniform:
+        case NormalWeighting::area: weights[0] = weights[1] = weights[2] = 1.0; break;
+        case NormalWeighting::angle: detail::triangle_angles(t, weights); break;
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * direction[k];
+    }
+  });
+  detail::parallel_for(V.rows(), [&](Eigen::Index v) {
+    const double norm = N.row(v).norm();
+    if (norm > 0.0) N.row(v) /= norm;
+  });
+  return N;
+}
+
+}  // namespace meshsmith::geometry
