@@ -3,6 +3,7 @@
     meshsmith info FILE
     meshsmith convert IN OUT [--binary | --ascii]
     meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
+    meshsmith curvature IN --kind mean|gaussian|k1|k2 -o out.png|out.npy
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
     meshsmith demo [--out DIR] [--input FILE]
 
@@ -104,6 +105,39 @@ def command_render(args) -> int:
     return 0
 
 
+CURVATURE_KINDS = ("mean", "gaussian", "k1", "k2")
+
+
+def curvature_field(kind: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, str]:
+    """Per-vertex curvature of the given kind (pointwise, i.e. per unit area) and its label."""
+    from . import geometry
+    if kind == "mean":
+        return geometry.mean_curvature(V, F)[0], "mean curvature H"
+    if kind == "gaussian":
+        return geometry.gaussian_curvature(V, F, pointwise=True), "Gaussian curvature K"
+    if kind in ("k1", "k2"):
+        k1, k2, _, _ = geometry.principal_curvatures(V, F)
+        return (k1, "max principal curvature k1") if kind == "k1" else (k2, "min principal curvature k2")
+    raise InputError(f"unknown curvature kind '{kind}': use {', '.join(CURVATURE_KINDS)}")
+
+
+def command_curvature(args) -> int:
+    from . import render
+    V, F = _read_mesh(args.input)
+    values, label = curvature_field(args.kind, V, F)
+    output = Path(args.output)
+    if output.suffix.lower() == ".npy":
+        np.save(output, values)
+    elif output.suffix.lower() == ".png":
+        render.render(V, F, output, scalar=values, scalar_label=label, cmap="coolwarm",
+                      title=f"{Path(args.input).name}: {label}", size=(args.width, args.height))
+    else:
+        raise InputError(f"output {args.output} must end in .png (a picture) or .npy (the values)")
+    print(f"wrote {args.output}: {label}, median {np.median(values):.6g}, "
+          f"range [{values.min():.6g}, {values.max():.6g}]")
+    return 0
+
+
 def command_normals(args) -> int:
     from . import io, points
     P, _ = io.read_points(args.input)
@@ -157,6 +191,18 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--height", type=int, default=600)
     render.add_argument("--title", help="title drawn on the picture (default: the file name)")
     render.set_defaults(run=command_render)
+
+    curvature = commands.add_parser("curvature", help="per-vertex curvature as a picture or values",
+                                    description="Per-vertex curvature (§1.2.4): mean (cotan Laplacian), "
+                                                "Gaussian (angle defect per Voronoi area) or the principal "
+                                                "curvatures k1 >= k2 (quadric fit). Writes a coloured picture "
+                                                "(.png) or the values (.npy).")
+    curvature.add_argument("input")
+    curvature.add_argument("--kind", choices=CURVATURE_KINDS, default="mean")
+    curvature.add_argument("-o", "--output", required=True, help="out.png or out.npy")
+    curvature.add_argument("--width", type=int, default=800)
+    curvature.add_argument("--height", type=int, default=600)
+    curvature.set_defaults(run=command_curvature)
 
     normals = commands.add_parser("normals", help="estimate (and orient) point-cloud normals",
                                   description="Estimate normals of a point cloud by PCA of each point's "

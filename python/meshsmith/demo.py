@@ -70,21 +70,41 @@ def stage_pictures(context: DemoContext) -> Section:
     render.render(context.V, context.F, context.out / "wireframe.png", wireframe=True,
                   size=(900, 650), title="wireframe")
     images.append(("wireframe.png", "the triangles"))
-    valence = np.bincount(context.F.ravel(), minlength=len(context.V)).astype(float)
-    render.render(context.V, context.F, context.out / "valence.png", scalar=valence,
-                  scalar_label="vertex valence", cmap="coolwarm", size=(900, 650), title="vertex valence")
-    images.append(("valence.png", "per-vertex scalar field with a colour bar: vertex valence"))
     if context.uv is not None:
         render.render(context.V, context.F, context.out / "checkerboard.png", uv=context.uv,
                       size=(900, 650), title="texture coordinates")
         images.append(("checkerboard.png", "checkerboard texture through the shape's texture coordinates"))
-    context.figures["valence"] = {"min": float(valence.min()), "max": float(valence.max()),
-                                  "mean": float(valence.mean())}
-    return Section("Pictures", "meshsmith.render: shaded views, wireframe, a scalar field, a texture.",
-                   context.figures["valence"], images)
+    return Section("Pictures", "meshsmith.render: shaded views, wireframe, a texture.", {}, images)
 
 
-STAGES = [stage_input, stage_pictures]
+def stage_curvature(context: DemoContext) -> Section:
+    """§1.2.4: mean curvature from the cotan Laplacian, Gaussian curvature from the angle defect,
+    with the Gauss–Bonnet check Σ K_i = 2πχ."""
+    from . import geometry, render, topology
+    V, F = context.V, context.F
+    H, _ = geometry.mean_curvature(V, F)
+    K = geometry.gaussian_curvature(V, F, pointwise=True)
+    total_K = float(geometry.gaussian_curvature(V, F).sum())
+    chi = topology.euler_characteristic(V, F)
+    render.render(V, F, context.out / "mean_curvature.png", scalar=H, scalar_label="mean curvature H",
+                  cmap="coolwarm", size=(900, 650), title="mean curvature")
+    render.render(V, F, context.out / "gaussian_curvature.png", scalar=K,
+                  scalar_label="Gaussian curvature K", cmap="coolwarm", size=(900, 650),
+                  title="Gaussian curvature")
+    figures = {"mean curvature H (median)": float(np.median(H)),
+               "mean curvature H (min, max)": (float(H.min()), float(H.max())),
+               "Gaussian curvature K (min, max)": (float(K.min()), float(K.max())),
+               "sum of angle defects": total_K, "2 pi chi": 2 * np.pi * chi,
+               "Gauss-Bonnet error": abs(total_K - 2 * np.pi * chi)}
+    context.figures["curvature"] = figures
+    return Section("Curvature", "meshsmith.geometry (§1.2.4): mean curvature from the cotangent "
+                   "Laplacian, Gaussian curvature from the angle defect; on a closed mesh the angle "
+                   "defects sum to 2πχ (Gauss–Bonnet).", figures,
+                   [("mean_curvature.png", "mean curvature (positive: convex)"),
+                    ("gaussian_curvature.png", "Gaussian curvature (red: elliptic, blue: hyperbolic)")])
+
+
+STAGES = [stage_input, stage_pictures, stage_curvature]
 
 
 def run_demo(out: Path, input_path: str | None = None, progress=None) -> Path:
