@@ -9,5 +9,6 @@ void bind_io(pybind11::module_& m);
 void bind_topology(pybind11::module_& m);
 void bind_render(pybind11::module_& m);
 void bind_geometry(pybind11::module_& m);
+void bind_geometry_metrics(pybind11::module_& m);
 void bind_points(pybind11::module_& m);
 }  // namespace meshsmith::python

@@ -19,6 +19,7 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_topology(topology);
   auto geometry = m.def_submodule("geometry");
   meshsmith::python::bind_geometry(geometry);
+  meshsmith::python::bind_geometry_metrics(geometry);
   auto render = m.def_submodule("render");
   meshsmith::python::bind_render(render);
   auto points = m.def_submodule("points");

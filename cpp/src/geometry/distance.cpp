@@ -1,0 +1,381 @@
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/validation.h>
+#include <meshsmith/geometry/distance.h>
+#include <meshsmith/geometry/measures.h>
+
+#include <Eigen/Geometry>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+namespace meshsmith::geometry {
+
+namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// Closest point to p on the segment [a, b] (a itself when the segment is a point).
+inline void closest_on_segment(const double* p, const double* a, const double* b, double* out) {
+  const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double length2 = dot3(ab, ab);
+  const double t = length2 > 0.0 ? std::clamp(dot3(ap, ab) / length2, 0.0, 1.0) : 0.0;
+  for (int k = 0; k < 3; ++k) out[k] = a[k] + t * ab[k];
+}
+
+inline double squared_distance(const double* p, const double* q) {
+  const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+  return dot3(d, d);
+}
+
+/// Closest point to p on a triangle of zero area: the nearest of the closest points on its edges.
+void closest_on_flat_triangle(const double* p, const double* a, const double* b, const double* c, double* out) {
+  double candidate[3], best = infinity;
+  const double* ends[3][2] = {{a, b}, {b, c}, {c, a}};
+  for (auto& edge : ends) {
+    closest_on_segment(p, edge[0], edge[1], candidate);
+    const double d = squared_distance(p, candidate);
+    if (d < best) {
+      best = d;
+      std::copy(candidate, candidate + 3, out);
+    }
+  }
+}
+
+/// Closest point to p on the triangle (a, b, c), by the Voronoi regions of its corners, edges
+/// and face (Ericson, Real-Time Collision Detection, §5.1.5). `flat`: the triangle has zero area.
+void closest_on_triangle(const double* p, const double* a, const double* b, const double* c, bool flat,
+                         double* out) {
+  if (flat) return closest_on_flat_triangle(p, a, b, c, out);
+  const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double ac[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return void(std::copy(a, a + 3, out));
+  const double bp[3] = {p[0] - b[0], p[1] - b[1], p[2] - b[2]};
+  const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return void(std::copy(b, b + 3, out));
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    const double v = d1 / (d1 - d3);  // d1 − d3 = |ab|² > 0
+    for (int k = 0; k < 3; ++k) out[k] = a[k] + v * ab[k];
+    return;
+  }
+  const double cp[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+  const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return void(std::copy(c, c + 3, out));
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    const double w = d2 / (d2 - d6);  // d2 − d6 = |ac|² > 0
+    for (int k = 0; k < 3; ++k) out[k] = a[k] + w * ac[k];
+    return;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));  // = |bc|² > 0
+    for (int k = 0; k < 3; ++k) out[k] = b[k] + w * (c[k] - b[k]);
+    return;
+  }
+  const double sum = va + vb + vc;  // = |ab × ac|² up to rounding
+  if (!(sum > 0.0)) return closest_on_flat_triangle(p, a, b, c, out);
+  const double v = vb / sum, w = vc / sum;
+  for (int k = 0; k < 3; ++k) out[k] = a[k] + v * ab[k] + w * ac[k];
+}
+
+void validate_queries(const VertexRef& Q) {
+  for (Eigen::Index i = 0; i < Q.rows(); ++i)
+    for (Eigen::Index c = 0; c < 3; ++c)
+      if (!std::isfinite(Q(i, c)))
+        throw InputError("Q[" + std::to_string(i) + ", " + std::to_string(c) + "] is not finite");
+}
+
+/// body(i) for i in [0, n) in parallel, in blocks, reporting progress between blocks from the
+/// calling thread.
+template <typename Body>
+void parallel_queries(Eigen::Index n, const Progress& progress, const char* stage, const Body& body) {
+  constexpr Eigen::Index block = Eigen::Index(1) << 16;
+  for (Eigen::Index begin = 0; begin < n; begin += block) {
+    progress.report(static_cast<double>(begin) / static_cast<double>(n), stage);
+    const Eigen::Index end = std::min(n, begin + block);
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(begin, end, 256),
+                      [&](const tbb::blocked_range<Eigen::Index>& range) {
+                        for (Eigen::Index i = range.begin(); i != range.end(); ++i) body(i);
+                      });
+  }
+  progress.report(1.0, stage);
+}
+
+/// splitmix64: a well-mixed 64-bit hash, for reproducible samples independent of thread count.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+double unit_uniform(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
+
+/// validate_mesh with the mesh's name ("A" or "B") in front of the message.
+void validate_named_mesh(const VertexRef& V, const FaceRef& F, const char* name) {
+  try {
+    validate_mesh(V, F);
+  } catch (const InputError& error) {
+    throw InputError(std::string("mesh ") + name + ": " + error.what());
+  }
+}
+
+void validate_sampling(const FaceRef& F, const SurfaceSampling& sampling) {
+  if (sampling.samples_per_face < 0)
+    throw InputError("samples_per_face must be >= 0, got " + std::to_string(sampling.samples_per_face));
+  if (static_cast<double>(F.rows()) * sampling.samples_per_face > 2147483647.0)
+    throw InputError("samples_per_face = " + std::to_string(sampling.samples_per_face) + " on " +
+                     std::to_string(F.rows()) + " faces gives more than 2^31 samples");
+}
+
+}  // namespace
+
+SurfaceDistance::SurfaceDistance(const VertexRef& V, const FaceRef& F, int leaf_size) {
+  validate_mesh(V, F);
+  if (leaf_size < 1) throw InputError("leaf_size must be >= 1, got " + std::to_string(leaf_size));
+  const int m = static_cast<int>(F.rows());
+  std::vector<double> centroids(3 * static_cast<std::size_t>(m));
+  for (int f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k)
+      centroids[3 * f + k] = (V(F(f, 0), k) + V(F(f, 1), k) + V(F(f, 2), k)) / 3.0;
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  nodes_.reserve(2 * (m / leaf_size + 1));
+  nodes_.emplace_back();
+  build(0, 0, m, order, centroids, leaf_size);
+  face_of_slot_ = order;
+  corners_.resize(9 * static_cast<std::size_t>(m));
+  flat_.resize(m);
+  for (int s = 0; s < m; ++s) {
+    double* corner = &corners_[9 * static_cast<std::size_t>(s)];
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) corner[3 * j + k] = V(F(order[s], j), k);
+    const Eigen::Vector3d a(corner), b(corner + 3), c(corner + 6);
+    flat_[s] = (b - a).cross(c - a).squaredNorm() == 0.0;
+  }
+  // Boxes, bottom-up: children always come after their parent in nodes_.
+  for (int n = static_cast<int>(nodes_.size()) - 1; n >= 0; --n) {
+    Node& node = nodes_[n];
+    std::fill(node.lower, node.lower + 3, infinity);
+    std::fill(node.upper, node.upper + 3, -infinity);
+    auto grow = [&](const double* lower, const double* upper) {
+      for (int k = 0; k < 3; ++k) {
+        node.lower[k] = std::min(node.lower[k], lower[k]);
+        node.upper[k] = std::max(node.upper[k], upper[k]);
+      }
+    };
+    if (node.count > 0) {
+      for (int s = node.first; s < node.first + node.count; ++s)
+        for (int j = 0; j < 3; ++j) grow(&corners_[9 * s + 3 * j], &corners_[9 * s + 3 * j]);
+    } else {
+      grow(nodes_[node.first].lower, nodes_[node.first].upper);
+      grow(nodes_[node.first + 1].lower, nodes_[node.first + 1].upper);
+    }
+  }
+}
+
+void SurfaceDistance::build(int index, int begin, int end, std::vector<int>& order,
+                            const std::vector<double>& centroids, int leaf_size) {
+  if (end - begin <= leaf_size) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return;
+  }
+  double lower[3] = {infinity, infinity, infinity}, upper[3] = {-infinity, -infinity, -infinity};
+  for (int s = begin; s < end; ++s)
+    for (int k = 0; k < 3; ++k) {
+      lower[k] = std::min(lower[k], centroids[3 * order[s] + k]);
+      upper[k] = std::max(upper[k], centroids[3 * order[s] + k]);
+    }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (upper[k] - lower[k] > upper[axis] - lower[axis]) axis = k;
+  const int middle = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, [&](int x, int y) {
+    const double cx = centroids[3 * x + axis], cy = centroids[3 * y + axis];
+    return cx < cy || (cx == cy && x < y);  // a total order: the tree does not depend on the STL
+  });
+  const int left = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  nodes_.emplace_back();
+  nodes_[index].first = left;
+  nodes_[index].count = 0;
+  build(left, begin, middle, order, centroids, leaf_size);
+  build(left + 1, middle, end, order, centroids, leaf_size);
+}
+
+namespace {
+inline double box_squared_distance(const double* q, const double* lower, const double* upper) {
+  double d = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double below = lower[k] - q[k], above = q[k] - upper[k];
+    const double gap = std::max(0.0, std::max(below, above));
+    d += gap * gap;
+  }
+  return d;
+}
+}  // namespace
+
+double SurfaceDistance::closest_point(const double* query, int& face, double* point) const {
+  struct Pending {
+    int node;
+    double squared_distance;
+  };
+  Pending stack[128];
+  int top = 0;
+  stack[top++] = {0, box_squared_distance(query, nodes_[0].lower, nodes_[0].upper)};
+  double best = infinity;
+  int best_slot = -1;
+  double candidate[3];
+  while (top > 0) {
+    const Pending pending = stack[--top];
+    if (pending.squared_distance >= best) continue;
+    const Node& node = nodes_[pending.node];
+    if (node.count > 0) {
+      for (int s = node.first; s < node.first + node.count; ++s) {
+        const double* corner = &corners_[9 * static_cast<std::size_t>(s)];
+        closest_on_triangle(query, corner, corner + 3, corner + 6, flat_[s] != 0, candidate);
+        const double d = squared_distance(query, candidate);
+        if (d < best) {
+          best = d;
+          best_slot = s;
+          std::copy(candidate, candidate + 3, point);
+        }
+      }
+      continue;
+    }
+    const int left = node.first, right = node.first + 1;
+    const double d_left = box_squared_distance(query, nodes_[left].lower, nodes_[left].upper);
+    const double d_right = box_squared_distance(query, nodes_[right].lower, nodes_[right].upper);
+    // Push the farther child first so the nearer one is searched first (ties: left first).
+    if (d_left <= d_right) {
+      if (d_right < best) stack[top++] = {right, d_right};
+      if (d_left < best) stack[top++] = {left, d_left};
+    } else {
+      if (d_left < best) stack[top++] = {left, d_left};
+      if (d_right < best) stack[top++] = {right, d_right};
+    }
+  }
+  face = face_of_slot_[best_slot];
+  return best;
+}
+
+ClosestPoints SurfaceDistance::closest_points(const VertexRef& Q, const Progress& progress) const {
+  validate_queries(Q);
+  ClosestPoints out;
+  out.distances.resize(Q.rows());
+  out.faces.resize(Q.rows());
+  out.points.resize(Q.rows(), 3);
+  parallel_queries(Q.rows(), progress, "closest points", [&](Eigen::Index i) {
+    const double query[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
+    int face = -1;
+    out.distances[i] = std::sqrt(closest_point(query, face, out.points.row(i).data()));
+    out.faces[i] = face;
+  });
+  return out;
+}
+
+Eigen::VectorXd SurfaceDistance::distances(const VertexRef& Q, const Progress& progress) const {
+  validate_queries(Q);
+  Eigen::VectorXd out(Q.rows());
+  parallel_queries(Q.rows(), progress, "distances", [&](Eigen::Index i) {
+    const double query[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
+    double point[3];
+    int face = -1;
+    out[i] = std::sqrt(closest_point(query, face, point));
+  });
+  return out;
+}
+
+std::pair<VertexMatrix, Eigen::VectorXd> surface_samples(const VertexRef& V, const FaceRef& F,
+                                                         const SurfaceSampling& sampling) {
+  validate_mesh(V, F);
+  validate_sampling(F, sampling);
+  const Eigen::VectorXd areas = face_areas(V, F);
+  const Eigen::Index n = V.rows(), k = sampling.samples_per_face;
+  VertexMatrix points(n + F.rows() * k, 3);
+  points.topRows(n) = V;
+  Eigen::VectorXd weights = Eigen::VectorXd::Zero(points.rows());
+  if (k == 0) {
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int j = 0; j < 3; ++j) weights[F(f, j)] += areas[f] / 3.0;
+    return {std::move(points), std::move(weights)};
+  }
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 1024), [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
+      const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      for (Eigen::Index s = 0; s < k; ++s) {
+        const std::uint64_t key = mix(sampling.seed ^ mix(static_cast<std::uint64_t>(f * k + s)));
+        const double root = std::sqrt(unit_uniform(key)), r2 = unit_uniform(mix(key));
+        // Uniform in the triangle (Osada et al. 2002): corners weighted 1 − √r1, √r1 (1 − r2), √r1 r2.
+        points.row(n + f * k + s) = (1.0 - root) * a + root * (1.0 - r2) * b + root * r2 * c;
+        weights[n + f * k + s] = areas[f] / static_cast<double>(k);
+      }
+    }
+  });
+  return {std::move(points), std::move(weights)};
+}
+
+namespace {
+
+/// Distances from the samples of (VA, FA) to (VB, FB) and from those of B to A.
+struct SampleDistances {
+  Eigen::VectorXd a_to_b, b_to_a, weights_a, weights_b;
+};
+
+SampleDistances sample_distances(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                 const SurfaceSampling& sampling, const Progress& progress) {
+  validate_named_mesh(VA, FA, "A");
+  validate_named_mesh(VB, FB, "B");
+  validate_sampling(FA, sampling);
+  validate_sampling(FB, sampling);
+  SampleDistances out;
+  auto [samples_a, weights_a] = surface_samples(VA, FA, sampling);
+  auto [samples_b, weights_b] = surface_samples(VB, FB, sampling);
+  progress.report(0.0, "AABB trees");
+  const SurfaceDistance tree_a(VA, FA), tree_b(VB, FB);
+  out.a_to_b = tree_b.distances(samples_a, progress.subrange(0.05, 0.5));
+  out.b_to_a = tree_a.distances(samples_b, progress.subrange(0.5, 1.0));
+  out.weights_a = std::move(weights_a);
+  out.weights_b = std::move(weights_b);
+  return out;
+}
+
+}  // namespace
+
+SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                    const SurfaceSampling& sampling, const Progress& progress) {
+  const SampleDistances d = sample_distances(VA, FA, VB, FB, sampling, progress);
+  SurfaceDistances out;
+  out.a_to_b = d.a_to_b.maxCoeff();
+  out.b_to_a = d.b_to_a.maxCoeff();
+  out.symmetric = std::max(out.a_to_b, out.b_to_a);
+  return out;
+}
+
+SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB,
+                                       const FaceRef& FB, const SurfaceSampling& sampling,
+                                       const Progress& progress) {
+  const SampleDistances d = sample_distances(VA, FA, VB, FB, sampling, progress);
+  const double area_a = d.weights_a.sum(), area_b = d.weights_b.sum();
+  if (!(area_a > 0.0)) throw InputError("mesh A has zero total area: its mean distance is undefined");
+  if (!(area_b > 0.0)) throw InputError("mesh B has zero total area: its mean distance is undefined");
+  SurfaceDistances out;
+  out.a_to_b = d.weights_a.dot(d.a_to_b) / area_a;
+  out.b_to_a = d.weights_b.dot(d.b_to_a) / area_b;
+  out.symmetric = (area_a * out.a_to_b + area_b * out.b_to_a) / (area_a + area_b);
+  return out;
+}
+
+}  // namespace meshsmith::geometry
