@@ -8,6 +8,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -228,6 +229,19 @@ inline double box_squared_distance(const double* q, const double* lower, const d
 }  // namespace
 
 double SurfaceDistance::closest_point(const double* query, int& face, double* point) const {
+  int slot = -1;
+  const double squared = search(query, -1.0, slot, point);
+  face = face_of_slot_[slot];
+  return squared;
+}
+
+double SurfaceDistance::squared_distance_unless_below(const double* query, double squared_threshold) const {
+  int slot = -1;
+  double point[3];
+  return search(query, squared_threshold, slot, point);
+}
+
+double SurfaceDistance::search(const double* query, double stop_below, int& best_slot, double* point) const {
   struct Pending {
     int node;
     double squared_distance;
@@ -236,9 +250,9 @@ double SurfaceDistance::closest_point(const double* query, int& face, double* po
   int top = 0;
   stack[top++] = {0, box_squared_distance(query, nodes_[0].lower, nodes_[0].upper)};
   double best = infinity;
-  int best_slot = -1;
+  best_slot = -1;
   double candidate[3];
-  while (top > 0) {
+  while (top > 0 && best > stop_below) {
     const Pending pending = stack[--top];
     if (pending.squared_distance >= best) continue;
     const Node& node = nodes_[pending.node];
@@ -267,7 +281,6 @@ double SurfaceDistance::closest_point(const double* query, int& face, double* po
       if (d_right < best) stack[top++] = {right, d_right};
     }
   }
-  face = face_of_slot_[best_slot];
   return best;
 }
 
@@ -329,37 +342,49 @@ std::pair<VertexMatrix, Eigen::VectorXd> surface_samples(const VertexRef& V, con
 
 namespace {
 
-/// Distances from the samples of (VA, FA) to (VB, FB) and from those of B to A.
-struct SampleDistances {
-  Eigen::VectorXd a_to_b, b_to_a, weights_a, weights_b;
+/// Both surfaces checked, sampled and put in AABB trees: what both distances below start from.
+struct SampledSurfaces {
+  VertexMatrix samples_a, samples_b;
+  Eigen::VectorXd weights_a, weights_b;
+  SurfaceDistance tree_a, tree_b;
 };
 
-SampleDistances sample_distances(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
-                                 const SurfaceSampling& sampling, const Progress& progress) {
+SampledSurfaces sample_surfaces(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                const SurfaceSampling& sampling, const Progress& progress) {
   validate_named_mesh(VA, FA, "A");
   validate_named_mesh(VB, FB, "B");
   validate_sampling(FA, sampling);
   validate_sampling(FB, sampling);
-  SampleDistances out;
+  progress.report(0.0, "sampling and AABB trees");
   auto [samples_a, weights_a] = surface_samples(VA, FA, sampling);
   auto [samples_b, weights_b] = surface_samples(VB, FB, sampling);
-  progress.report(0.0, "AABB trees");
-  const SurfaceDistance tree_a(VA, FA), tree_b(VB, FB);
-  out.a_to_b = tree_b.distances(samples_a, progress.subrange(0.05, 0.5));
-  out.b_to_a = tree_a.distances(samples_b, progress.subrange(0.5, 1.0));
-  out.weights_a = std::move(weights_a);
-  out.weights_b = std::move(weights_b);
-  return out;
+  return {std::move(samples_a), std::move(samples_b), std::move(weights_a), std::move(weights_b),
+          SurfaceDistance(VA, FA), SurfaceDistance(VB, FB)};
+}
+
+/// max over the rows of P of the distance to the surface of `tree`. Queries stop as soon as they
+/// find a triangle no farther than the largest distance found so far (shared between threads):
+/// such a query cannot raise the maximum. Every query that does raise it is computed exactly, so
+/// the result is the exact maximum, whatever the thread count or order.
+double max_distance(const SurfaceDistance& tree, const VertexMatrix& P, const Progress& progress) {
+  std::atomic<double> largest{0.0};  // squared
+  parallel_queries(P.rows(), progress, "Hausdorff distance", [&](Eigen::Index i) {
+    const double found = tree.squared_distance_unless_below(P.row(i).data(), largest.load(std::memory_order_relaxed));
+    double current = largest.load(std::memory_order_relaxed);
+    while (found > current && !largest.compare_exchange_weak(current, found, std::memory_order_relaxed)) {
+    }
+  });
+  return std::sqrt(largest.load());
 }
 
 }  // namespace
 
 SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
                                     const SurfaceSampling& sampling, const Progress& progress) {
-  const SampleDistances d = sample_distances(VA, FA, VB, FB, sampling, progress);
+  const SampledSurfaces surfaces = sample_surfaces(VA, FA, VB, FB, sampling, progress);
   SurfaceDistances out;
-  out.a_to_b = d.a_to_b.maxCoeff();
-  out.b_to_a = d.b_to_a.maxCoeff();
+  out.a_to_b = max_distance(surfaces.tree_b, surfaces.samples_a, progress.subrange(0.05, 0.5));
+  out.b_to_a = max_distance(surfaces.tree_a, surfaces.samples_b, progress.subrange(0.5, 1.0));
   out.symmetric = std::max(out.a_to_b, out.b_to_a);
   return out;
 }
@@ -367,13 +392,13 @@ SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, cons
 SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB,
                                        const FaceRef& FB, const SurfaceSampling& sampling,
                                        const Progress& progress) {
-  const SampleDistances d = sample_distances(VA, FA, VB, FB, sampling, progress);
-  const double area_a = d.weights_a.sum(), area_b = d.weights_b.sum();
+  const SampledSurfaces s = sample_surfaces(VA, FA, VB, FB, sampling, progress);
+  const double area_a = s.weights_a.sum(), area_b = s.weights_b.sum();
   if (!(area_a > 0.0)) throw InputError("mesh A has zero total area: its mean distance is undefined");
   if (!(area_b > 0.0)) throw InputError("mesh B has zero total area: its mean distance is undefined");
   SurfaceDistances out;
-  out.a_to_b = d.weights_a.dot(d.a_to_b) / area_a;
-  out.b_to_a = d.weights_b.dot(d.b_to_a) / area_b;
+  out.a_to_b = s.weights_a.dot(s.tree_b.distances(s.samples_a, progress.subrange(0.05, 0.5))) / area_a;
+  out.b_to_a = s.weights_b.dot(s.tree_a.distances(s.samples_b, progress.subrange(0.5, 1.0))) / area_b;
   out.symmetric = (area_a * out.a_to_b + area_b * out.b_to_a) / (area_a + area_b);
   return out;
 }

@@ -49,6 +49,12 @@ class SurfaceDistance {
   /// writes the nearest face and the closest point (3 doubles).
   double closest_point(const double* query, int& face, double* point) const;
 
+  /// One query that may stop early, thread-safe: returns the exact squared distance from `query`
+  /// to the surface when it is greater than `squared_threshold`, otherwise some value
+  /// <= squared_threshold (the search stops at the first triangle that close). The maximum of
+  /// distances over many queries (Hausdorff) needs only this, and most queries stop early.
+  double squared_distance_unless_below(const double* query, double squared_threshold) const;
+
  private:
   struct Node {
     double lower[3], upper[3];
@@ -58,6 +64,9 @@ class SurfaceDistance {
   /// Splits the slots [begin, end) of `order` under node `index` (allocated by the caller).
   void build(int index, int begin, int end, std::vector<int>& order, const std::vector<double>& centroids,
              int leaf_size);
+  /// The tree search shared by the queries above: stops once the best squared distance is
+  /// <= stop_below (-1: never), writes the best slot and closest point.
+  double search(const double* query, double stop_below, int& best_slot, double* point) const;
   std::vector<Node> nodes_;
   std::vector<double> corners_;    ///< 9 doubles per slot: the triangle's corners in leaf order
   std::vector<int> face_of_slot_;  ///< face index of each slot
