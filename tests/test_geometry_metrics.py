@@ -367,3 +367,14 @@ def test_distance_bad_input():
     flat = np.zeros((3, 3))
     with pytest.raises(meshsmith.InputError, match="zero total area"):
         mean_surface_distance(flat, [[0, 1, 2]], V, F)
+
+
+def test_progress_is_reported_and_can_cancel():
+    V, F = datasets.icosphere(3)
+    stages = []
+    hausdorff_distance(V, F, 1.1 * V, F, progress=lambda fraction, stage: stages.append((fraction, stage)))
+    assert stages and stages[-1][0] == 1.0
+    with pytest.raises(meshsmith.Cancelled):
+        hausdorff_distance(V, F, 1.1 * V, F, progress=lambda fraction, stage: False)
+    with pytest.raises(meshsmith.Cancelled):
+        SurfaceDistance(V, F).closest_points(V, progress=lambda fraction, stage: False)

@@ -45,6 +45,7 @@ class TriangleDistortion:
       normalized_global_stretch_l2: global_stretch_l2 * sqrt(sum |UV area| / sum A), invariant
         to a uniform scale of UV (1 for an isometry up to scale).
       global_stretch_linf: max s1.
+      (The three global values are NaN only when no face has positive 3D area.)
     Index lists (int64, ascending): flipped_faces; degenerate_parameter_faces (UV area exactly 0
     with positive 3D area: J, sigma and every measure are +inf there, and so are the averages
     touching them); degenerate_surface_faces (3D area 0: sigma2 = 0, conformal and isometric

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <atomic>
@@ -113,6 +114,13 @@ void parallel_queries(Eigen::Index n, const Progress& progress, const char* stag
   progress.report(1.0, stage);
 }
 
+/// Number of nodes of the tree over `count` triangles: leaves hold <= leaf_size, internal nodes
+/// split at count / 2. Known before building, so each subtree's place in the array is too.
+int subtree_size(int count, int leaf_size) {
+  if (count <= leaf_size) return 1;
+  return 1 + subtree_size(count / 2, leaf_size) + subtree_size(count - count / 2, leaf_size);
+}
+
 /// splitmix64: a well-mixed 64-bit hash, for reproducible samples independent of thread count.
 std::uint64_t mix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -146,25 +154,29 @@ SurfaceDistance::SurfaceDistance(const VertexRef& V, const FaceRef& F, int leaf_
   validate_mesh(V, F);
   if (leaf_size < 1) throw InputError("leaf_size must be >= 1, got " + std::to_string(leaf_size));
   const int m = static_cast<int>(F.rows());
-  std::vector<double> centroids(3 * static_cast<std::size_t>(m));
-  for (int f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k)
-      centroids[3 * f + k] = (V(F(f, 0), k) + V(F(f, 1), k) + V(F(f, 2), k)) / 3.0;
-  std::vector<int> order(m);
-  std::iota(order.begin(), order.end(), 0);
-  nodes_.reserve(2 * (m / leaf_size + 1));
-  nodes_.emplace_back();
-  build(0, 0, m, order, centroids, leaf_size);
-  face_of_slot_ = order;
+  std::vector<Centroid> items(m);
+  tbb::parallel_for(tbb::blocked_range<int>(0, m, 8192), [&](const tbb::blocked_range<int>& range) {
+    for (int f = range.begin(); f < range.end(); ++f) {
+      for (int k = 0; k < 3; ++k)
+        items[f].position[k] = (V(F(f, 0), k) + V(F(f, 1), k) + V(F(f, 2), k)) / 3.0;
+      items[f].face = f;
+    }
+  });
+  nodes_.resize(subtree_size(m, leaf_size));
+  build(0, 0, m, items, leaf_size);
+  face_of_slot_.resize(m);
+  for (int s = 0; s < m; ++s) face_of_slot_[s] = items[s].face;
   corners_.resize(9 * static_cast<std::size_t>(m));
   flat_.resize(m);
-  for (int s = 0; s < m; ++s) {
-    double* corner = &corners_[9 * static_cast<std::size_t>(s)];
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) corner[3 * j + k] = V(F(order[s], j), k);
-    const Eigen::Vector3d a(corner), b(corner + 3), c(corner + 6);
-    flat_[s] = (b - a).cross(c - a).squaredNorm() == 0.0;
-  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, m, 8192), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      double* corner = &corners_[9 * static_cast<std::size_t>(s)];
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) corner[3 * j + k] = V(F(face_of_slot_[s], j), k);
+      const Eigen::Vector3d a(corner), b(corner + 3), c(corner + 6);
+      flat_[s] = (b - a).cross(c - a).squaredNorm() == 0.0;
+    }
+  });
   // Boxes, bottom-up: children always come after their parent in nodes_.
   for (int n = static_cast<int>(nodes_.size()) - 1; n >= 0; --n) {
     Node& node = nodes_[n];
@@ -180,14 +192,13 @@ SurfaceDistance::SurfaceDistance(const VertexRef& V, const FaceRef& F, int leaf_
       for (int s = node.first; s < node.first + node.count; ++s)
         for (int j = 0; j < 3; ++j) grow(&corners_[9 * s + 3 * j], &corners_[9 * s + 3 * j]);
     } else {
+      grow(nodes_[n + 1].lower, nodes_[n + 1].upper);
       grow(nodes_[node.first].lower, nodes_[node.first].upper);
-      grow(nodes_[node.first + 1].lower, nodes_[node.first + 1].upper);
     }
   }
 }
 
-void SurfaceDistance::build(int index, int begin, int end, std::vector<int>& order,
-                            const std::vector<double>& centroids, int leaf_size) {
+void SurfaceDistance::build(int index, int begin, int end, std::vector<Centroid>& items, int leaf_size) {
   if (end - begin <= leaf_size) {
     nodes_[index].first = begin;
     nodes_[index].count = end - begin;
@@ -196,24 +207,29 @@ void SurfaceDistance::build(int index, int begin, int end, std::vector<int>& ord
   double lower[3] = {infinity, infinity, infinity}, upper[3] = {-infinity, -infinity, -infinity};
   for (int s = begin; s < end; ++s)
     for (int k = 0; k < 3; ++k) {
-      lower[k] = std::min(lower[k], centroids[3 * order[s] + k]);
-      upper[k] = std::max(upper[k], centroids[3 * order[s] + k]);
+      lower[k] = std::min(lower[k], items[s].position[k]);
+      upper[k] = std::max(upper[k], items[s].position[k]);
     }
   int axis = 0;
   for (int k = 1; k < 3; ++k)
     if (upper[k] - lower[k] > upper[axis] - lower[axis]) axis = k;
   const int middle = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, [&](int x, int y) {
-    const double cx = centroids[3 * x + axis], cy = centroids[3 * y + axis];
-    return cx < cy || (cx == cy && x < y);  // a total order: the tree does not depend on the STL
+  std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end,
+                   [axis](const Centroid& x, const Centroid& y) {
+    const double cx = x.position[axis], cy = y.position[axis];
+    return cx < cy || (cx == cy && x.face < y.face);  // a total order: the tree does not depend on the STL
   });
-  const int left = static_cast<int>(nodes_.size());
-  nodes_.emplace_back();
-  nodes_.emplace_back();
-  nodes_[index].first = left;
+  const int right = index + 1 + subtree_size(middle - begin, leaf_size);
+  nodes_[index].first = right;
   nodes_[index].count = 0;
-  build(left, begin, middle, order, centroids, leaf_size);
-  build(left + 1, middle, end, order, centroids, leaf_size);
+  auto build_left = [&] { build(index + 1, begin, middle, items, leaf_size); };
+  auto build_right = [&] { build(right, middle, end, items, leaf_size); };
+  if (end - begin > 16384) {
+    tbb::parallel_invoke(build_left, build_right);  // disjoint slots and nodes: same tree
+  } else {
+    build_left();
+    build_right();
+  }
 }
 
 namespace {
@@ -269,7 +285,7 @@ double SurfaceDistance::search(const double* query, double stop_below, int& best
       }
       continue;
     }
-    const int left = node.first, right = node.first + 1;
+    const int left = pending.node + 1, right = node.first;
     const double d_left = box_squared_distance(query, nodes_[left].lower, nodes_[left].upper);
     const double d_right = box_squared_distance(query, nodes_[right].lower, nodes_[right].upper);
     // Push the farther child first so the nearer one is searched first (ties: left first).

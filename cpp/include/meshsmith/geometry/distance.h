@@ -58,12 +58,17 @@ class SurfaceDistance {
  private:
   struct Node {
     double lower[3], upper[3];
-    int first;  ///< internal: index of the left child (the right one follows); leaf: first slot
+    int first;  ///< internal: index of the right child (the left one is the next node); leaf: first slot
     int count;  ///< 0 for an internal node; number of triangles for a leaf
   };
-  /// Splits the slots [begin, end) of `order` under node `index` (allocated by the caller).
-  void build(int index, int begin, int end, std::vector<int>& order, const std::vector<double>& centroids,
-             int leaf_size);
+  /// A triangle's centroid, moved with it while the build partitions (no indirection).
+  struct Centroid {
+    double position[3];
+    int face;
+  };
+  /// Splits the slots [begin, end) of `items` under node `index`; the subtree occupies the nodes
+  /// [index, index + subtree_size(end − begin)) in preorder, so halves are built in parallel.
+  void build(int index, int begin, int end, std::vector<Centroid>& items, int leaf_size);
   /// The tree search shared by the queries above: stops once the best squared distance is
   /// <= stop_below (-1: never), writes the best slot and closest point.
   double search(const double* query, double stop_below, int& best_slot, double* point) const;

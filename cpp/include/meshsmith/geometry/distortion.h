@@ -69,6 +69,7 @@ struct TriangleDistortion {
   /// 1 for any map that is an isometry up to one uniform scale.
   double normalized_global_stretch_l2 = 0.0;
   /// max_f σ1 over the faces of positive 3D area.
+  /// (The three global values are NaN when no face has positive 3D area: nothing to average.)
   double global_stretch_linf = 0.0;
 
   std::vector<int> flipped_faces;               ///< faces with det J < 0, ascending
