@@ -355,6 +355,8 @@ def test_distance_bad_input():
         mean_surface_distance(np.full_like(V, np.nan), F, V, F)
     with pytest.raises(meshsmith.InputError, match="samples_per_face"):
         hausdorff_distance(V, F, V, F, sampled=True, samples_per_face=0)
+    with pytest.raises(meshsmith.InputError, match=r"more than 2\^27 samples"):  # not a huge allocation
+        hausdorff_distance(V, F, V, F, sampled=True, samples_per_face=10**9)
     tree = SurfaceDistance(V, F)
     with pytest.raises(meshsmith.InputError, match=r"Q\[1, 2\] is not finite"):
         tree.closest_points([[0.0, 0, 0], [1, 1, np.inf]])

@@ -116,8 +116,10 @@ class SurfaceDistance:
         Q: (k, 3) float array (k may be 0). progress: optional ``(fraction, stage) -> bool``.
         Returns ``(distance, face, point)``: (k,) float64 Euclidean distances, (k,) int64 index
         of a nearest face (the first found when several are equally near, e.g. at a shared
-        vertex), (k, 3) float64 closest points. Same values as libigl's
-        ``point_mesh_squared_distance`` (which returns squared distances).
+        vertex), (k, 3) float64 closest points. Same distances as libigl's
+        ``point_mesh_squared_distance`` (which returns squared ones); where a query is equally
+        near to several surface points (inside a convex corner, on a medial axis) the face and
+        point may be another of them.
         Raises InputError for Q of the wrong shape or with a NaN/Inf.
         """
         return self._tree.closest_points(Q, progress)
@@ -149,6 +151,7 @@ def hausdorff_distance(VA, FA, VB, FB, *, sampled: bool = False, samples_per_fac
     - ``sampled=True``: the vertices plus ``samples_per_face`` points per face, uniform in each
       triangle from a hash of (seed, face, sample): a tighter (larger) lower bound that tends to
       the true Hausdorff distance as samples_per_face grows. Deterministic for a given seed.
+      m * samples_per_face may be at most 2^27 per mesh (a bound on memory).
 
     VA, VB: (n, 3) float arrays; FA, FB: (m, 3) integer arrays.
     Returns the distance (float), or with ``one_sided=True`` the tuple

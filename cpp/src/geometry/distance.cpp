@@ -143,9 +143,10 @@ void validate_named_mesh(const VertexRef& V, const FaceRef& F, const char* name)
 void validate_sampling(const FaceRef& F, const SurfaceSampling& sampling) {
   if (sampling.samples_per_face < 0)
     throw InputError("samples_per_face must be >= 0, got " + std::to_string(sampling.samples_per_face));
-  if (static_cast<double>(F.rows()) * sampling.samples_per_face > 2147483647.0)
+  // A bound on memory (24 bytes per sample): 2^27 samples are 3 GB.
+  if (static_cast<double>(F.rows()) * sampling.samples_per_face > 134217728.0)
     throw InputError("samples_per_face = " + std::to_string(sampling.samples_per_face) + " on " +
-                     std::to_string(F.rows()) + " faces gives more than 2^31 samples");
+                     std::to_string(F.rows()) + " faces gives more than 2^27 samples");
 }
 
 }  // namespace
@@ -153,6 +154,9 @@ void validate_sampling(const FaceRef& F, const SurfaceSampling& sampling) {
 SurfaceDistance::SurfaceDistance(const VertexRef& V, const FaceRef& F, int leaf_size) {
   validate_mesh(V, F);
   if (leaf_size < 1) throw InputError("leaf_size must be >= 1, got " + std::to_string(leaf_size));
+  if (F.rows() / leaf_size >= (Eigen::Index(1) << 29))
+    throw InputError("too many faces (" + std::to_string(F.rows()) + ") for leaf_size " + std::to_string(leaf_size) +
+                     ": the tree would have more than 2^30 nodes");
   const int m = static_cast<int>(F.rows());
   std::vector<Centroid> items(m);
   tbb::parallel_for(tbb::blocked_range<int>(0, m, 8192), [&](const tbb::blocked_range<int>& range) {

@@ -16,7 +16,8 @@ namespace meshsmith::geometry {
 /// Result of SurfaceDistance::closest_points for #Q query points.
 struct ClosestPoints {
   Eigen::VectorXd distances;  ///< #Q Euclidean distances to the surface
-  Eigen::VectorXi faces;      ///< #Q indices of a nearest face (the first found on ties)
+  Eigen::VectorXi faces;      ///< #Q indices of a nearest face (the first found on ties, where
+                              ///< the closest point may also differ from another library's)
   VertexMatrix points;        ///< #Q×3 closest points on the surface
 };
 
@@ -31,7 +32,7 @@ struct ClosestPoints {
 class SurfaceDistance {
  public:
   /// V: #V×3 positions, F: #F×3 triangles (both copied). leaf_size: triangles per leaf.
-  /// \pre validate_mesh(V, F) passes; leaf_size >= 1.
+  /// \pre validate_mesh(V, F) passes; leaf_size >= 1; #F / leaf_size < 2^29.
   /// \throw InputError if a precondition fails.
   SurfaceDistance(const VertexRef& V, const FaceRef& F, int leaf_size = 4);
 
@@ -99,7 +100,7 @@ struct SurfaceDistances {
 /// this is what libigl's `hausdorff` computes; samples on the faces give a tighter lower bound
 /// of the true (continuous) Hausdorff distance. Deterministic.
 /// \pre validate_mesh passes for both meshes; samples_per_face >= 0 and #F · samples_per_face
-///      is at most 2^31.
+///      is at most 2^27 (a bound on memory) for each mesh.
 /// \throw InputError if a precondition fails. \throw Cancelled if progress asks to stop.
 SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB,
                                     const FaceRef& FB, const SurfaceSampling& sampling = {},
