@@ -98,20 +98,26 @@ void validate_queries(const VertexRef& Q) {
         throw InputError("Q[" + std::to_string(i) + ", " + std::to_string(c) + "] is not finite");
 }
 
-/// body(i) for i in [0, n) in parallel, in blocks, reporting progress between blocks from the
-/// calling thread.
-template <typename Body>
-void parallel_queries(Eigen::Index n, const Progress& progress, const char* stage, const Body& body) {
+/// range_body(begin, end) over sub-ranges of [0, n) in parallel, in blocks, reporting progress
+/// between blocks from the calling thread.
+template <typename RangeBody>
+void parallel_query_ranges(Eigen::Index n, const Progress& progress, const char* stage, const RangeBody& range_body) {
   constexpr Eigen::Index block = Eigen::Index(1) << 16;
   for (Eigen::Index begin = 0; begin < n; begin += block) {
     progress.report(static_cast<double>(begin) / static_cast<double>(n), stage);
     const Eigen::Index end = std::min(n, begin + block);
     tbb::parallel_for(tbb::blocked_range<Eigen::Index>(begin, end, 256),
-                      [&](const tbb::blocked_range<Eigen::Index>& range) {
-                        for (Eigen::Index i = range.begin(); i != range.end(); ++i) body(i);
-                      });
+                      [&](const tbb::blocked_range<Eigen::Index>& range) { range_body(range.begin(), range.end()); });
   }
   progress.report(1.0, stage);
+}
+
+/// body(i) for i in [0, n), as parallel_query_ranges.
+template <typename Body>
+void parallel_queries(Eigen::Index n, const Progress& progress, const char* stage, const Body& body) {
+  parallel_query_ranges(n, progress, stage, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) body(i);
+  });
 }
 
 /// Number of nodes of the tree over `count` triangles: leaves hold <= leaf_size, internal nodes
@@ -255,10 +261,10 @@ double SurfaceDistance::closest_point(const double* query, int& face, double* po
   return squared;
 }
 
-double SurfaceDistance::squared_distance_unless_below(const double* query, double squared_threshold) const {
-  int slot = -1;
+double SurfaceDistance::squared_distance_unless_below(const double* query, double squared_threshold,
+                                                     int& hint) const {
   double point[3];
-  return search(query, squared_threshold, slot, point);
+  return search(query, squared_threshold, hint, point);
 }
 
 double SurfaceDistance::search(const double* query, double stop_below, int& best_slot, double* point) const {
@@ -270,8 +276,12 @@ double SurfaceDistance::search(const double* query, double stop_below, int& best
   int top = 0;
   stack[top++] = {0, box_squared_distance(query, nodes_[0].lower, nodes_[0].upper)};
   double best = infinity;
-  best_slot = -1;
   double candidate[3];
+  if (best_slot >= 0) {  // a hint: an upper bound to prune with from the start
+    const double* corner = &corners_[9 * static_cast<std::size_t>(best_slot)];
+    closest_on_triangle(query, corner, corner + 3, corner + 6, flat_[best_slot] != 0, point);
+    best = squared_distance(query, point);
+  }
   while (top > 0 && best > stop_below) {
     const Pending pending = stack[--top];
     if (pending.squared_distance >= best) continue;
@@ -388,10 +398,14 @@ SampledSurfaces sample_surfaces(const VertexRef& VA, const FaceRef& FA, const Ve
 /// the result is the exact maximum, whatever the thread count or order.
 double max_distance(const SurfaceDistance& tree, const VertexMatrix& P, const Progress& progress) {
   std::atomic<double> largest{0.0};  // squared
-  parallel_queries(P.rows(), progress, "Hausdorff distance", [&](Eigen::Index i) {
-    const double found = tree.squared_distance_unless_below(P.row(i).data(), largest.load(std::memory_order_relaxed));
-    double current = largest.load(std::memory_order_relaxed);
-    while (found > current && !largest.compare_exchange_weak(current, found, std::memory_order_relaxed)) {
+  parallel_query_ranges(P.rows(), progress, "Hausdorff distance", [&](Eigen::Index begin, Eigen::Index end) {
+    int hint = -1;  // consecutive samples (of one face, or neighbouring vertices) are near each other
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const double found =
+          tree.squared_distance_unless_below(P.row(i).data(), largest.load(std::memory_order_relaxed), hint);
+      double current = largest.load(std::memory_order_relaxed);
+      while (found > current && !largest.compare_exchange_weak(current, found, std::memory_order_relaxed)) {
+      }
     }
   });
   return std::sqrt(largest.load());

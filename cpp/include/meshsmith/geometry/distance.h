@@ -54,7 +54,10 @@ class SurfaceDistance {
   /// to the surface when it is greater than `squared_threshold`, otherwise some value
   /// <= squared_threshold (the search stops at the first triangle that close). The maximum of
   /// distances over many queries (Hausdorff) needs only this, and most queries stop early.
-  double squared_distance_unless_below(const double* query, double squared_threshold) const;
+  /// `hint`: a slot to try first (-1: none); on return, the slot of the best triangle found (the
+  /// next query of a coherent sequence, e.g. samples of one face, starts there and often stops
+  /// at once).
+  double squared_distance_unless_below(const double* query, double squared_threshold, int& hint) const;
 
  private:
   struct Node {
@@ -70,8 +73,9 @@ class SurfaceDistance {
   /// Splits the slots [begin, end) of `items` under node `index`; the subtree occupies the nodes
   /// [index, index + subtree_size(end − begin)) in preorder, so halves are built in parallel.
   void build(int index, int begin, int end, std::vector<Centroid>& items, int leaf_size);
-  /// The tree search shared by the queries above: stops once the best squared distance is
-  /// <= stop_below (-1: never), writes the best slot and closest point.
+  /// The tree search shared by the queries above: starts from the triangle in slot best_slot when
+  /// it is >= 0, stops once the best squared distance is <= stop_below (-1: never), writes the
+  /// best slot and closest point.
   double search(const double* query, double stop_below, int& best_slot, double* point) const;
   std::vector<Node> nodes_;
   std::vector<double> corners_;    ///< 9 doubles per slot: the triangle's corners in leaf order
