@@ -332,19 +332,27 @@ ClosestPoints SurfaceDistance::closest_points(const VertexRef& Q, const Progress
 Eigen::VectorXd SurfaceDistance::distances(const VertexRef& Q, const Progress& progress) const {
   validate_queries(Q);
   Eigen::VectorXd out(Q.rows());
-  parallel_queries(Q.rows(), progress, "distances", [&](Eigen::Index i) {
-    const double query[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
+  // Each search starts from the previous query's triangle: only the (exact, unique) distance is
+  // returned, so this cannot make the result depend on how the range is split between threads.
+  parallel_query_ranges(Q.rows(), progress, "distances", [&](Eigen::Index begin, Eigen::Index end) {
+    int hint = -1;
     double point[3];
-    int face = -1;
-    out[i] = std::sqrt(closest_point(query, face, point));
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const double query[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
+      out[i] = std::sqrt(search(query, -1.0, hint, point));
+    }
   });
   return out;
 }
 
 std::pair<VertexMatrix, Eigen::VectorXd> surface_samples(const VertexRef& V, const FaceRef& F,
-                                                         const SurfaceSampling& sampling) {
+                                                         const SurfaceSampling& sampling,
+                                                         const std::vector<int>& face_order) {
   validate_mesh(V, F);
   validate_sampling(F, sampling);
+  if (!face_order.empty() && static_cast<Eigen::Index>(face_order.size()) != F.rows())
+    throw InputError("face_order has " + std::to_string(face_order.size()) + " entries but F has " +
+                     std::to_string(F.rows()) + " rows");
   const Eigen::VectorXd areas = face_areas(V, F);
   const Eigen::Index n = V.rows(), k = sampling.samples_per_face;
   VertexMatrix points(n + F.rows() * k, 3);
@@ -356,14 +364,16 @@ std::pair<VertexMatrix, Eigen::VectorXd> surface_samples(const VertexRef& V, con
     return {std::move(points), std::move(weights)};
   }
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, F.rows(), 1024), [&](const tbb::blocked_range<Eigen::Index>& range) {
-    for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
+    for (Eigen::Index place = range.begin(); place < range.end(); ++place) {
+      const Eigen::Index f = face_order.empty() ? place : face_order[place];
+      if (f < 0 || f >= F.rows()) throw InputError("face_order holds " + std::to_string(f) + ", not a face index");
       const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
       for (Eigen::Index s = 0; s < k; ++s) {
         const std::uint64_t key = mix(sampling.seed ^ mix(static_cast<std::uint64_t>(f * k + s)));
         const double root = std::sqrt(unit_uniform(key)), r2 = unit_uniform(mix(key));
         // Uniform in the triangle (Osada et al. 2002): corners weighted 1 − √r1, √r1 (1 − r2), √r1 r2.
-        points.row(n + f * k + s) = (1.0 - root) * a + root * (1.0 - r2) * b + root * r2 * c;
-        weights[n + f * k + s] = areas[f] / static_cast<double>(k);
+        points.row(n + place * k + s) = (1.0 - root) * a + root * (1.0 - r2) * b + root * r2 * c;
+        weights[n + place * k + s] = areas[f] / static_cast<double>(k);
       }
     }
   });
@@ -386,10 +396,12 @@ SampledSurfaces sample_surfaces(const VertexRef& VA, const FaceRef& FA, const Ve
   validate_sampling(FA, sampling);
   validate_sampling(FB, sampling);
   progress.report(0.0, "sampling and AABB trees");
-  auto [samples_a, weights_a] = surface_samples(VA, FA, sampling);
-  auto [samples_b, weights_b] = surface_samples(VB, FB, sampling);
+  SurfaceDistance tree_a(VA, FA), tree_b(VB, FB);
+  // Face samples in leaf order: consecutive queries are near each other (fast hinted searches).
+  auto [samples_a, weights_a] = surface_samples(VA, FA, sampling, tree_a.faces_in_leaf_order());
+  auto [samples_b, weights_b] = surface_samples(VB, FB, sampling, tree_b.faces_in_leaf_order());
   return {std::move(samples_a), std::move(samples_b), std::move(weights_a), std::move(weights_b),
-          SurfaceDistance(VA, FA), SurfaceDistance(VB, FB)};
+          std::move(tree_a), std::move(tree_b)};
 }
 
 /// max over the rows of P of the distance to the surface of `tree`. Queries stop as soon as they

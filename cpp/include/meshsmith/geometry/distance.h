@@ -39,6 +39,10 @@ class SurfaceDistance {
   /// Number of triangles in the tree.
   Eigen::Index face_count() const { return static_cast<Eigen::Index>(face_of_slot_.size()); }
 
+  /// The face indices in the order of the tree's leaves: spatially coherent, so queries made in
+  /// this order (e.g. samples of these faces) visit the same nodes one after another.
+  const std::vector<int>& faces_in_leaf_order() const { return face_of_slot_; }
+
   /// Distance, nearest face and closest point for each row of Q (#Q×3, may be empty).
   /// \throw InputError if Q holds a NaN/Inf. \throw Cancelled if progress asks to stop.
   ClosestPoints closest_points(const VertexRef& Q, const Progress& progress = {}) const;
@@ -122,10 +126,13 @@ SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, c
                                        const Progress& progress = {});
 
 /// The sample points of a surface as hausdorff_distance uses them (samples_per_face = 0: V;
-/// otherwise V followed by the face samples, face by face), with their weights for the mean
-/// (lumped vertex areas, or 0 for the vertices and A_f / k for face samples when k > 0).
-/// \throw InputError as hausdorff_distance.
+/// otherwise V followed by the face samples, face by face in `face_order`, a permutation of
+/// 0..#F−1, by default the identity), with their weights for the mean (lumped vertex areas, or
+/// 0 for the vertices and A_f / k for face samples when k > 0). The samples of face f do not
+/// depend on the order, only where they are placed.
+/// \throw InputError as hausdorff_distance, or if face_order is not empty and not of size #F.
 std::pair<VertexMatrix, Eigen::VectorXd> surface_samples(const VertexRef& V, const FaceRef& F,
-                                                         const SurfaceSampling& sampling);
+                                                         const SurfaceSampling& sampling,
+                                                         const std::vector<int>& face_order = {});
 
 }  // namespace meshsmith::geometry
