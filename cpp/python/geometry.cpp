@@ -24,6 +24,7 @@ void bind_geometry(py::module_& m) {
   }, py::arg("V"), py::arg("F"));
 
   bind_geometry_differential(m);  // geometry_differential.cpp: normals, Laplacians, curvature
+  bind_geometry_metrics(m);       // geometry_metrics.cpp: distortion, distances
 }
 
 }  // namespace meshsmith::python

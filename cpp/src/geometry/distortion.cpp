@@ -1,0 +1,168 @@
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/validation.h>
+#include <meshsmith/geometry/distortion.h>
+
+#include <Eigen/Geometry>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace meshsmith::geometry {
+
+namespace {
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+void validate_parameters(const VertexRef& V, const ParameterRef& UV) {
+  if (UV.rows() != V.rows()) {
+    throw InputError("UV has " + std::to_string(UV.rows()) + " rows but V has " + std::to_string(V.rows()) +
+                     ": expected one parameter position per vertex");
+  }
+  for (Eigen::Index i = 0; i < UV.rows(); ++i)
+    for (Eigen::Index c = 0; c < 2; ++c)
+      if (!std::isfinite(UV(i, c)))
+        throw InputError("UV[" + std::to_string(i) + ", " + std::to_string(c) + "] is not finite");
+}
+
+/// Singular values σ1 ≥ σ2 ≥ 0 of the 2×2 matrix [[a, b], [c, d]] in closed form: J is the sum
+/// of a similarity (E, H) and an anti-similarity (F, G), σ = |(E, H)| ± |(F, G)|. σ2 comes from
+/// |det J| / σ1, which keeps its relative accuracy when J is nearly singular.
+Eigen::Vector2d singular_values_2x2(double a, double b, double c, double d) {
+  const double similarity = std::hypot(0.5 * (a + d), 0.5 * (c - b));
+  const double anti_similarity = std::hypot(0.5 * (a - d), 0.5 * (c + b));
+  const double sigma1 = similarity + anti_similarity;
+  const double sigma2 = sigma1 > 0.0 ? std::abs(a * d - b * c) / sigma1 : 0.0;
+  return {sigma1, std::min(sigma2, sigma1)};
+}
+
+/// The 3D triangle's edges e1 = v1 − v0, e2 = v2 − v0 in an orthonormal frame of its plane
+/// (columns of the returned matrix). Counter-clockwise (det > 0) for a non-degenerate triangle.
+Eigen::Matrix2d edges_in_triangle_frame(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2) {
+  const Eigen::Vector3d e3 = e2 - e1;
+  Eigen::Vector3d x = e1;
+  if (x.squaredNorm() == 0.0) x = e2;
+  if (x.squaredNorm() == 0.0) return Eigen::Matrix2d::Zero();  // all corners coincide
+  Eigen::Vector3d normal = e1.cross(e2);
+  if (normal.squaredNorm() == 0.0) {
+    // Collinear corners: x along the longest edge; y is then orthogonal to every edge.
+    if (e2.squaredNorm() > x.squaredNorm()) x = e2;
+    if (e3.squaredNorm() > x.squaredNorm()) x = e3;
+    x.normalize();
+    Eigen::Vector3d y = x.unitOrthogonal();
+    Eigen::Matrix2d D;
+    D << e1.dot(x), e2.dot(x), e1.dot(y), e2.dot(y);
+    return D;
+  }
+  x.normalize();
+  const Eigen::Vector3d y = normal.normalized().cross(x);
+  Eigen::Matrix2d D;
+  D << e1.dot(x), e2.dot(x), e1.dot(y), e2.dot(y);
+  return D;
+}
+
+/// Area-weighted per-vertex average of a per-face measure (NaN where the total weight is 0).
+Eigen::VectorXd vertex_average(const FaceRef& F, Eigen::Index n_vertices, const Eigen::VectorXd& weights,
+                               const Eigen::VectorXd& measure) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n_vertices), total = Eigen::VectorXd::Zero(n_vertices);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    if (!(weights[f] > 0.0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      sum[F(f, k)] += weights[f] * measure[f];
+      total[F(f, k)] += weights[f];
+    }
+  }
+  Eigen::VectorXd average(n_vertices);
+  for (Eigen::Index i = 0; i < n_vertices; ++i)
+    average[i] = total[i] > 0.0 ? sum[i] / total[i] : std::numeric_limits<double>::quiet_NaN();
+  return average;
+}
+
+}  // namespace
+
+TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, const ParameterRef& UV) {
+  validate_mesh(V, F);
+  validate_parameters(V, UV);
+  const Eigen::Index m = F.rows();
+  TriangleDistortion out;
+  out.jacobians.resize(m, 4);
+  out.singular_values.resize(m, 2);
+  out.isometric.resize(m);
+  out.conformal.resize(m);
+  out.area.resize(m);
+  out.stretch_l2.resize(m);
+  out.stretch_linf.resize(m);
+  out.flipped.resize(m);
+  out.surface_areas.resize(m);
+  out.parameter_areas.resize(m);
+
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, m, 4096), [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f < range.end(); ++f) {
+      const Eigen::Vector3d p0 = V.row(F(f, 0)).transpose();
+      const Eigen::Vector3d e1 = V.row(F(f, 1)).transpose() - p0, e2 = V.row(F(f, 2)).transpose() - p0;
+      const Eigen::Vector2d q0 = UV.row(F(f, 0)).transpose();
+      Eigen::Matrix2d parameter_edges;
+      parameter_edges.col(0) = UV.row(F(f, 1)).transpose() - q0;
+      parameter_edges.col(1) = UV.row(F(f, 2)).transpose() - q0;
+      const double parameter_det = parameter_edges.determinant();
+      const double surface_area = 0.5 * e1.cross(e2).norm();
+      out.surface_areas[f] = surface_area;
+      out.parameter_areas[f] = 0.5 * parameter_det;
+      out.flipped[f] = surface_area > 0.0 && parameter_det < 0.0;
+
+      if (parameter_det == 0.0) {
+        // No affine map from a flat UV triangle: infinite distortion (0 for a point-like 3D
+        // triangle would be as arbitrary; a zero-area 3D triangle has weight 0 anyway).
+        out.jacobians.row(f).setConstant(infinity);
+        out.singular_values.row(f).setConstant(infinity);
+        out.isometric[f] = out.conformal[f] = out.area[f] = infinity;
+        out.stretch_l2[f] = out.stretch_linf[f] = infinity;
+        continue;
+      }
+      // J maps parameter edges onto surface edges: J · parameter_edges = surface_edges.
+      const Eigen::Matrix2d J = edges_in_triangle_frame(e1, e2) * parameter_edges.inverse();
+      out.jacobians.row(f) << J(0, 0), J(0, 1), J(1, 0), J(1, 1);
+      const Eigen::Vector2d sigma = singular_values_2x2(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
+      out.singular_values.row(f) = sigma.transpose();
+      const double s1 = sigma[0], s2 = sigma[1];
+      out.conformal[f] = s2 > 0.0 ? s1 / s2 : infinity;
+      out.isometric[f] = s2 > 0.0 ? (s1 * s1 + s2 * s2 + 1.0 / (s1 * s1) + 1.0 / (s2 * s2)) / 4.0 : infinity;
+      out.area[f] = s1 * s2;
+      out.stretch_l2[f] = std::sqrt((s1 * s1 + s2 * s2) / 2.0);
+      out.stretch_linf[f] = s1;
+    }
+  });
+
+  // Fixed-order (serial) sums: the result does not depend on the thread count.
+  double weighted_stretch = 0.0, total_surface = 0.0, total_parameter = 0.0, max_stretch = 0.0;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const double weight = out.surface_areas[f];
+    if (weight > 0.0) {
+      if (out.flipped[f]) out.flipped_faces.push_back(static_cast<int>(f));
+      if (out.parameter_areas[f] == 0.0) out.degenerate_parameter_faces.push_back(static_cast<int>(f));
+      weighted_stretch += weight * out.stretch_l2[f] * out.stretch_l2[f];
+      total_surface += weight;
+      total_parameter += std::abs(out.parameter_areas[f]);
+      max_stretch = std::max(max_stretch, out.stretch_linf[f]);
+    } else {
+      out.degenerate_surface_faces.push_back(static_cast<int>(f));
+    }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.global_stretch_l2 = total_surface > 0.0 ? std::sqrt(weighted_stretch / total_surface) : nan;
+  out.normalized_global_stretch_l2 =
+      total_surface > 0.0 ? out.global_stretch_l2 * std::sqrt(total_parameter / total_surface) : nan;
+  out.global_stretch_linf = total_surface > 0.0 ? max_stretch : nan;
+
+  const Eigen::Index n = V.rows();
+  out.vertex_isometric = vertex_average(F, n, out.surface_areas, out.isometric);
+  out.vertex_conformal = vertex_average(F, n, out.surface_areas, out.conformal);
+  out.vertex_area = vertex_average(F, n, out.surface_areas, out.area);
+  out.vertex_stretch_l2 = vertex_average(F, n, out.surface_areas, out.stretch_l2);
+  out.vertex_stretch_linf = vertex_average(F, n, out.surface_areas, out.stretch_linf);
+  return out;
+}
+
+}  // namespace meshsmith::geometry
