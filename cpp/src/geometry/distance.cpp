@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <oneapi/tbb/blocked_range.h>
+#include <meshsmith/core/parallel.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_invoke.h>
 
@@ -96,28 +97,6 @@ void validate_queries(const VertexRef& Q) {
     for (Eigen::Index c = 0; c < 3; ++c)
       if (!std::isfinite(Q(i, c)))
         throw InputError("Q[" + std::to_string(i) + ", " + std::to_string(c) + "] is not finite");
-}
-
-/// range_body(begin, end) over sub-ranges of [0, n) in parallel, in blocks, reporting progress
-/// between blocks from the calling thread.
-template <typename RangeBody>
-void parallel_query_ranges(Eigen::Index n, const Progress& progress, const char* stage, const RangeBody& range_body) {
-  constexpr Eigen::Index block = Eigen::Index(1) << 16;
-  for (Eigen::Index begin = 0; begin < n; begin += block) {
-    progress.report(static_cast<double>(begin) / static_cast<double>(n), stage);
-    const Eigen::Index end = std::min(n, begin + block);
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(begin, end, 256),
-                      [&](const tbb::blocked_range<Eigen::Index>& range) { range_body(range.begin(), range.end()); });
-  }
-  progress.report(1.0, stage);
-}
-
-/// body(i) for i in [0, n), as parallel_query_ranges.
-template <typename Body>
-void parallel_queries(Eigen::Index n, const Progress& progress, const char* stage, const Body& body) {
-  parallel_query_ranges(n, progress, stage, [&](Eigen::Index begin, Eigen::Index end) {
-    for (Eigen::Index i = begin; i < end; ++i) body(i);
-  });
 }
 
 /// Number of nodes of the tree over `count` triangles: leaves hold <= leaf_size, internal nodes
@@ -320,7 +299,7 @@ ClosestPoints SurfaceDistance::closest_points(const VertexRef& Q, const Progress
   out.distances.resize(Q.rows());
   out.faces.resize(Q.rows());
   out.points.resize(Q.rows(), 3);
-  parallel_queries(Q.rows(), progress, "closest points", [&](Eigen::Index i) {
+  parallel_for_with_progress(Q.rows(), progress, "closest points", [&](Eigen::Index i) {
     const double query[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
     int face = -1;
     out.distances[i] = std::sqrt(closest_point(query, face, out.points.row(i).data()));
@@ -334,7 +313,7 @@ Eigen::VectorXd SurfaceDistance::distances(const VertexRef& Q, const Progress& p
   Eigen::VectorXd out(Q.rows());
   // Each search starts from the previous query's triangle: only the (exact, unique) distance is
   // returned, so this cannot make the result depend on how the range is split between threads.
-  parallel_query_ranges(Q.rows(), progress, "distances", [&](Eigen::Index begin, Eigen::Index end) {
+  parallel_ranges_with_progress(Q.rows(), progress, "distances", [&](Eigen::Index begin, Eigen::Index end) {
     int hint = -1;
     double point[3];
     for (Eigen::Index i = begin; i < end; ++i) {
@@ -410,7 +389,7 @@ SampledSurfaces sample_surfaces(const VertexRef& VA, const FaceRef& FA, const Ve
 /// the result is the exact maximum, whatever the thread count or order.
 double max_distance(const SurfaceDistance& tree, const VertexMatrix& P, const Progress& progress) {
   std::atomic<double> largest{0.0};  // squared
-  parallel_query_ranges(P.rows(), progress, "Hausdorff distance", [&](Eigen::Index begin, Eigen::Index end) {
+  parallel_ranges_with_progress(P.rows(), progress, "Hausdorff distance", [&](Eigen::Index begin, Eigen::Index end) {
     int hint = -1;  // consecutive samples (of one face, or neighbouring vertices) are near each other
     for (Eigen::Index i = begin; i < end; ++i) {
       const double found =

@@ -3,7 +3,7 @@
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/validation.h>
 
-#include "parallel_blocks.h"
+#include <meshsmith/core/parallel.h>
 
 #include <nanoflann.hpp>
 
@@ -82,7 +82,7 @@ KnnResult KdTree::query(const VertexRef& Q, int k, const Progress& progress) con
   check_k(k, size(), "k must be at least 1 and at most the number of points P");
   const Eigen::Index m = Q.rows();
   KnnResult result{NeighborIndexMatrix(m, k), NeighborDistanceMatrix(m, k)};
-  detail::parallel_for_in_blocks(m, progress, "knn", [&](Eigen::Index q) {
+  parallel_for_with_progress(m, progress, "knn", [&](Eigen::Index q) {
     std::uint32_t found[64];
     double squared[64];
     std::vector<std::uint32_t> found_heap;
@@ -114,7 +114,7 @@ KnnResult KdTree::query_self(int k, const Progress& progress) const {
   const int wanted = k + 1;
   // Queries in the tree's leaf order: consecutive queries touch the same nodes (cache).
   const auto& order = leaf_order();
-  detail::parallel_for_in_blocks(n, progress, "knn", [&](Eigen::Index t) {
+  parallel_for_with_progress(n, progress, "knn", [&](Eigen::Index t) {
     const std::uint32_t i = order[static_cast<std::size_t>(t)];
     std::uint32_t found[65];
     double squared[65];
@@ -149,7 +149,7 @@ RadiusResult KdTree::query_radius(const VertexRef& Q, double radius, const Progr
   const Eigen::Index m = Q.rows();
   std::vector<std::vector<std::pair<std::uint32_t, double>>> per_query(static_cast<std::size_t>(m));
   const double squared_radius = radius * radius;
-  detail::parallel_for_in_blocks(m, progress, "radius search", [&](Eigen::Index q) {
+  parallel_for_with_progress(m, progress, "radius search", [&](Eigen::Index q) {
     const double point[3] = {Q(q, 0), Q(q, 1), Q(q, 2)};
     within_radius(point, squared_radius, per_query[static_cast<std::size_t>(q)]);
   });

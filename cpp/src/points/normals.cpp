@@ -3,7 +3,7 @@
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/validation.h>
 
-#include "parallel_blocks.h"
+#include <meshsmith/core/parallel.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -98,7 +98,7 @@ NormalEstimate estimate_normals(const KdTree& tree, const NormalEstimationOption
   const auto& order = tree.leaf_order();
   const int wanted = options.k + 1;
   const double squared_radius = options.radius * options.radius;
-  detail::parallel_for_in_blocks(n, progress, "estimate normals", [&](Eigen::Index t) {
+  parallel_for_with_progress(n, progress, "estimate normals", [&](Eigen::Index t) {
     const std::uint32_t i = order[static_cast<std::size_t>(t)];
     const double* point = points.row(i).data();
     std::uint32_t buffer[65];
