@@ -20,24 +20,33 @@ VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
 
 VertexMatrix vertex_normals(const VertexRef& V, const FaceRef& F, NormalWeighting weighting) {
   detail::validate_surface(V, F);
-  VertexMatrix N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
-    const detail::Triangle t = detail::triangle(V, F, f);
-    // Each corner receives weight · unit normal; for area weighting (weight 2·area) that is the
-    // cross product itself. Degenerate faces contribute nothing.
-    double weights[3] = {0.0, 0.0, 0.0};
-    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-    if (!t.degenerate) {
-      direction = weighting == NormalWeighting::area ? t.cross : (t.cross / t.double_area).eval();
-      switch (weighting) {
-        case NormalWeighting::uniform:
-        case NormalWeighting::area: weights[0] = weights[1] = weights[2] = 1.0; break;
-        case NormalWeighting::angle: detail::triangle_angles(t, weights); break;
+  VertexMatrix N;
+  if (weighting == NormalWeighting::area) {
+    // Area weighting adds each face's cross product (2·area·unit normal) to its corners: no
+    // angles, lengths or degeneracy test needed (a degenerate face's cross product is ~0).
+    N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
+      const Eigen::Vector3d cross = detail::triangle_cross(V, F, f);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) out[c][k] = cross[k];
+    });
+  } else {
+    N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
+      const detail::Triangle t = detail::triangle(V, F, f);
+      // Each corner receives weight · unit normal. Degenerate faces contribute nothing.
+      double weights[3] = {0.0, 0.0, 0.0};
+      Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+      if (!t.degenerate) {
+        direction = t.cross / t.double_area;
+        if (weighting == NormalWeighting::angle) {
+          detail::triangle_angles(t, weights);
+        } else {
+          weights[0] = weights[1] = weights[2] = 1.0;
+        }
       }
-    }
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * direction[k];
-    }
-  });
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) out[c][k] = weights[c] * direction[k];
+    });
+  }
   detail::parallel_for(V.rows(), [&](Eigen::Index v) {
     const double norm = N.row(v).norm();
     if (norm > 0.0) N.row(v) /= norm;

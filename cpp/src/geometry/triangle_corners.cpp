@@ -39,13 +39,25 @@ VertexCorners vertex_corners(const FaceRef& F, Eigen::Index n) {
   return result;
 }
 
-Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
-  // Faces are mostly visited in increasing order and their corners are scattered in V: fetch the
-  // corners of a face a few iterations ahead so that the cache misses overlap.
+namespace {
+// Faces are mostly visited in increasing order and their corners are scattered in V: fetch the
+// corners of a face a few iterations ahead so that the cache misses overlap.
+inline void prefetch_corners_ahead(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
   constexpr Eigen::Index kAhead = 12;
   if (f + kAhead < F.rows()) {
     for (int c = 0; c < 3; ++c) __builtin_prefetch(&V.coeffRef(F(f + kAhead, c), 0));
   }
+}
+}  // namespace
+
+Eigen::Vector3d triangle_cross(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
+  prefetch_corners_ahead(V, F, f);
+  const Eigen::Vector3d p0 = V.row(F(f, 0)).transpose();
+  return (V.row(F(f, 1)).transpose() - p0).cross(V.row(F(f, 2)).transpose() - p0);
+}
+
+Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
+  prefetch_corners_ahead(V, F, f);
   Triangle t;
   for (int c = 0; c < 3; ++c) t.p[c] = V.row(F(f, c)).transpose();
   t.cross = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);

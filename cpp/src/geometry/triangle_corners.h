@@ -56,6 +56,8 @@ struct Triangle {
   bool degenerate;          // double_area ≤ 8·ε·(longest edge)²: cotangents would blow up
 };
 Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f);
+/// Just (p1 − p0) × (p2 − p0) of face f, with the same prefetching as triangle().
+Eigen::Vector3d triangle_cross(const VertexRef& V, const FaceRef& F, Eigen::Index f);
 
 /// Interior angle at corner c, atan2(|cross|, dot) (a fast, ~2-ulp implementation): accurate for
 /// small and large angles alike, finite for degenerate triangles (0 at a repeated vertex).
