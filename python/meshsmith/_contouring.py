@@ -138,19 +138,22 @@ def is_r_sample(samples, R: float) -> bool:
     return sampling_ratio(samples) <= float(R)
 
 
-def crust_3d(points, *, cocone_angle: float = np.pi / 8) -> tuple[np.ndarray, np.ndarray]:
+def crust_3d(points, *, cocone_angle: float = np.pi / 8,
+             max_hole_edges: int = 8) -> tuple[np.ndarray, np.ndarray]:
     """Reconstruct a triangle mesh from points sampled on a closed surface: Cocone (§2.1.3, 3D).
 
     The Cocone refinement (Amenta, Choi, Dey & Leekha 2002) of the 3D crust with poles: on the
     Delaunay triangulation of the points, each point's pole (farthest Voronoi vertex of its cell)
     estimates its normal; a Delaunay triangle is kept when its dual Voronoi edge meets the cocone
     (the directions within `cocone_angle` of the plane orthogonal to the normal) at each corner.
-    Then a manifold is extracted: triangles with a free edge are removed repeatedly, and the outer
-    surface of the rest is collected by a walk that turns outwards across each edge.
+    Then a manifold is extracted: dangling triangles (a free edge, and an edge shared by more than
+    two candidates) are removed repeatedly, the outer surface of the rest is collected by a walk
+    that turns outwards across each edge and never puts a third triangle on an edge, and holes
+    bounded by simple loops of at most `max_hole_edges` edges are closed by ear cutting.
     points: (n, 3) real array, n >= 4, not coplanar, no duplicates. cocone_angle: radians in
-    (0, pi/2), default pi/8.
+    (0, pi/2), default pi/8. max_hole_edges: >= 0 (0 leaves holes open), default 8.
     Returns (V, F): V the points (n, 3) float, F (m, 3) int64 triangles oriented outwards.
     Manifold and watertight when the sampling is dense and free of noise.
     Raises InputError if a precondition fails.
     """
-    return _core.crust_3d(points, float(cocone_angle))
+    return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges))

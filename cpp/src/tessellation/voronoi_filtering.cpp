@@ -243,12 +243,120 @@ bool meets_cocone(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eige
   return !((c0 > sin_theta && c1 > sin_theta) || (c0 < -sin_theta && c1 < -sin_theta));
 }
 
+// Closes the holes of an oriented triangle set bounded by simple loops of at most `max_edges`
+// boundary edges, by cutting ears (shortest new edge first) that create no edge used twice.
+void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
+                      std::vector<std::array<int, 3>>& triangles, int max_edges) {
+  std::map<std::uint64_t, int> edge_use;
+  std::map<int, std::vector<int>> boundary_next;  // a -> b for boundary half-edges a→b
+  for (const auto& f : triangles)
+    for (int j = 0; j < 3; ++j) ++edge_use[edge_key(f[j], f[(j + 1) % 3])];
+  for (const auto& f : triangles)
+    for (int j = 0; j < 3; ++j)
+      if (edge_use[edge_key(f[j], f[(j + 1) % 3])] == 1) boundary_next[f[j]].push_back(f[(j + 1) % 3]);
+  std::map<int, bool> visited;
+  for (const auto& [start, outgoing] : boundary_next) {
+    if (visited[start]) continue;
+    // Follow the loop; give up on branching (non-manifold) or long loops.
+    std::vector<int> loop{start};
+    bool simple = true;
+    int v = start;
+    while (simple) {
+      const auto it = boundary_next.find(v);
+      if (it == boundary_next.end() || it->second.size() != 1) {
+        simple = false;
+        break;
+      }
+      v = it->second[0];
+      if (v == start) break;
+      if (static_cast<int>(loop.size()) >= max_edges ||
+          std::find(loop.begin(), loop.end(), v) != loop.end()) {
+        simple = false;
+        break;
+      }
+      loop.push_back(v);
+    }
+    for (int u : loop) visited[u] = true;
+    if (!simple || loop.size() < 3) continue;
+    // Ear cutting. The fill triangles run against the loop's direction.
+    while (loop.size() > 3) {
+      int best = -1;
+      double shortest = std::numeric_limits<double>::infinity();
+      const int k = static_cast<int>(loop.size());
+      for (int i = 0; i < k; ++i) {
+        const int previous = loop[(i + k - 1) % k], following = loop[(i + 1) % k];
+        if (edge_use[edge_key(previous, following)] > 0) continue;
+        const double length = (P.row(previous) - P.row(following)).norm();
+        if (length < shortest) {
+          shortest = length;
+          best = i;
+        }
+      }
+      if (best < 0) break;
+      const int previous = loop[(best + k - 1) % k], following = loop[(best + 1) % k];
+      triangles.push_back({following, loop[best], previous});
+      for (int j = 0; j < 3; ++j)
+        ++edge_use[edge_key(triangles.back()[j], triangles.back()[(j + 1) % 3])];
+      loop.erase(loop.begin() + best);
+    }
+    if (loop.size() == 3) {
+      triangles.push_back({loop[2], loop[1], loop[0]});
+      for (int j = 0; j < 3; ++j)
+        ++edge_use[edge_key(triangles.back()[j], triangles.back()[(j + 1) % 3])];
+    }
+  }
+}
+
+// Where the triangles around a vertex form several fans (a non-manifold vertex), keeps the
+// largest fan and removes the others; returns whether anything was removed.
+bool remove_extra_fans(std::vector<std::array<int, 3>>& triangles) {
+  std::map<int, std::vector<int>> star;
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int c : triangles[t]) star[c].push_back(static_cast<int>(t));
+  std::vector<bool> removed(triangles.size(), false);
+  bool any = false;
+  for (const auto& [v, around] : star) {
+    // Union the triangles of the star that share an edge (v, x).
+    std::vector<int> group(around.size());
+    for (std::size_t a = 0; a < around.size(); ++a) group[a] = static_cast<int>(a);
+    auto root = [&](int a) {
+      while (group[a] != a) a = group[a] = group[group[a]];
+      return a;
+    };
+    std::map<int, int> first_with;  // other corner x → a star triangle holding edge (v, x)
+    for (std::size_t a = 0; a < around.size(); ++a)
+      for (int x : triangles[around[a]]) {
+        if (x == v) continue;
+        const auto [it, inserted] = first_with.emplace(x, static_cast<int>(a));
+        if (!inserted) group[root(static_cast<int>(a))] = root(it->second);
+      }
+    std::map<int, int> size;
+    for (std::size_t a = 0; a < around.size(); ++a) ++size[root(static_cast<int>(a))];
+    if (size.size() < 2) continue;
+    int largest = size.begin()->first;
+    for (const auto& [r, count] : size)
+      if (count > size[largest]) largest = r;
+    for (std::size_t a = 0; a < around.size(); ++a)
+      if (root(static_cast<int>(a)) != largest && !removed[around[a]]) {
+        removed[around[a]] = true;
+        any = true;
+      }
+  }
+  if (!any) return false;
+  std::vector<std::array<int, 3>> kept;
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    if (!removed[t]) kept.push_back(triangles[t]);
+  triangles.swap(kept);
+  return true;
+}
+
 }  // namespace
 
 Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& options) {
   check_samples(P, 3, 4, "crust_3d");
   if (!(options.cocone_angle > 0.0 && options.cocone_angle < 1.5707963267948966))
     throw InputError("crust_3d: cocone_angle must lie in (0, pi/2)");
+  if (options.max_hole_edges < 0) throw InputError("crust_3d: max_hole_edges must be >= 0");
   const Eigen::Index n = P.rows();
   const detail::Triangulation t = full_delaunay(P, "crust_3d");
   const auto& tets = t.simplices;
@@ -301,7 +409,7 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     if (keep) candidates.push_back(f.corners);
   }
 
-  // Edge → candidate triangles; remove triangles with a free edge until none is left.
+  // Edge → candidate triangles; remove dangling triangles until none is left.
   const std::size_t m = candidates.size();
   std::map<std::uint64_t, std::vector<int>> edge_triangles;
   for (std::size_t k = 0; k < m; ++k)
@@ -319,10 +427,15 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     const int k = stack.back();
     stack.pop_back();
     if (!alive[k]) continue;
-    bool free_edge = false;
-    for (int j = 0; j < 3 && !free_edge; ++j)
-      free_edge = live_count(edge_key(candidates[k][j], candidates[k][(j + 1) % 3])) < 2;
-    if (!free_edge) continue;
+    // A dangling triangle: a free edge, and another edge where the surface goes on without it.
+    // (Triangles around a hole of the candidate set have a free edge but are kept.)
+    bool free_edge = false, crowded_edge = false;
+    for (int j = 0; j < 3; ++j) {
+      const int count = live_count(edge_key(candidates[k][j], candidates[k][(j + 1) % 3]));
+      free_edge = free_edge || count < 2;
+      crowded_edge = crowded_edge || count > 2;
+    }
+    if (!(free_edge && crowded_edge)) continue;
     alive[k] = false;
     for (int j = 0; j < 3; ++j)
       for (int other : edge_triangles[edge_key(candidates[k][j], candidates[k][(j + 1) % 3])])
@@ -333,6 +446,16 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
   std::vector<std::array<int, 3>> oriented(m);
   std::vector<bool> taken(m, false), vertex_used(static_cast<std::size_t>(n), false);
   std::vector<int> chosen;
+  std::map<std::uint64_t, int> edge_use;  // chosen triangles per edge: never more than 2
+  auto fits = [&](const std::array<int, 3>& f) {
+    for (int j = 0; j < 3; ++j)
+      if (edge_use[edge_key(f[j], f[(j + 1) % 3])] >= 2) return false;
+    return true;
+  };
+  auto take = [&](int k) {
+    taken[k] = true;
+    for (int j = 0; j < 3; ++j) ++edge_use[edge_key(oriented[k][j], oriented[k][(j + 1) % 3])];
+  };
   auto normal_of = [&](const std::array<int, 3>& f) {
     return Eigen::Vector3d((row3(P, f[1]) - row3(P, f[0])).cross(row3(P, f[2]) - row3(P, f[0])));
   };
@@ -357,7 +480,11 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     if (seed < 0) break;
     oriented[seed] = candidates[seed];
     if (normal_of(oriented[seed]).x() < 0.0) std::swap(oriented[seed][1], oriented[seed][2]);
-    taken[seed] = true;
+    if (!fits(oriented[seed])) {
+      taken[seed] = true;  // never seed here again
+      continue;
+    }
+    take(seed);
     std::vector<int> queue{seed};
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const int k = queue[head];
@@ -390,7 +517,8 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
         const auto& g = candidates[next];
         const int d = g[0] != a && g[0] != b ? g[0] : (g[1] != a && g[1] != b ? g[1] : g[2]);
         oriented[next] = {b, a, d};
-        taken[next] = true;
+        if (!fits(oriented[next])) continue;
+        take(next);
         queue.push_back(next);
       }
     }
@@ -398,11 +526,17 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
       for (int c : oriented[k]) vertex_used[c] = true;
   }
 
+  std::vector<std::array<int, 3>> triangles;
+  for (int k : chosen) triangles.push_back(oriented[k]);
+  fill_small_holes(P, triangles, options.max_hole_edges);
+  for (int round = 0; round < 3 && remove_extra_fans(triangles); ++round)
+    fill_small_holes(P, triangles, options.max_hole_edges);
+
   Mesh mesh;
   mesh.V = P;
-  mesh.F.resize(static_cast<Eigen::Index>(chosen.size()), 3);
-  for (std::size_t r = 0; r < chosen.size(); ++r)
-    for (int j = 0; j < 3; ++j) mesh.F(static_cast<Eigen::Index>(r), j) = oriented[chosen[r]][j];
+  mesh.F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t r = 0; r < triangles.size(); ++r)
+    for (int j = 0; j < 3; ++j) mesh.F(static_cast<Eigen::Index>(r), j) = triangles[r][j];
   return mesh;
 }
 

@@ -48,6 +48,9 @@ struct CoconeOptions {
   /// Half-opening of the cocone around the plane orthogonal to the pole vector, in radians
   /// (θ = π/8 in Amenta, Choi, Dey & Leekha 2002).
   double cocone_angle = 0.39269908169872414;
+  /// Holes of the extracted surface bounded by simple loops of at most this many edges are
+  /// closed by ear cutting (0: leave every hole open).
+  int max_hole_edges = 8;
 };
 
 /// Surface reconstruction by the Cocone algorithm (§2.1.3 in 3D; Amenta, Choi, Dey & Leekha
@@ -56,9 +59,13 @@ struct CoconeOptions {
 /// of its cell (on the convex hull: the average outward normal of its hull faces), n_p = p+ - p
 /// estimates the normal; a Delaunay triangle is a candidate when its dual Voronoi edge meets the
 /// cocone {x : angle(x - p, ±n_p) >= π/2 - θ} of each of its three corners. Manifold extraction:
-/// candidates with a free edge are removed repeatedly, then the outer surface of what remains is
-/// collected by a walk that, across each edge, takes the neighbour first reached when turning
-/// outwards (one walk per connected surface, seeded at its extreme point in x).
+/// dangling candidates (a free edge and an edge shared by more than two candidates) are removed
+/// repeatedly, then the outer surface of what remains is collected by a walk that, across each
+/// edge, takes the neighbour first reached when turning outwards and never puts a third triangle
+/// on an edge (one walk per connected surface, seeded at its extreme point in x); finally small
+/// holes (simple boundary loops of at most max_hole_edges edges) are closed by ear cutting; at a
+/// vertex where the triangles form several fans only the largest fan is kept (then small holes
+/// are closed again; up to 3 rounds).
 /// points: n×3. Returns (V = the points, F = #F×3 triangles, outward-oriented where the walk could
 /// orient them). Manifold and watertight when the sampling is dense and free of noise.
 /// \pre n >= 4, finite, not coplanar, no two points equal.
