@@ -169,6 +169,24 @@ def test_power_diagram_single_and_collinear_sites():
     assert areas == pytest.approx([3.0, 2.0, 2.0, 2.0, 3.0])
 
 
+def test_power_diagram_coplanar_sites_3d_and_many_collinear_sites():
+    rng = np.random.default_rng(8)
+    P = np.c_[rng.random((12, 2)), np.full(12, 0.5)]
+    w = 0.01 * rng.random(12)
+    diagram = tess.power_diagram(P, w, bounds=(0, 0, 1, 1, 0, 1))
+    assert len(diagram.triangulation) == 0
+    total = sum(polyhedron_volume(v, f) for v, f in diagram.cells if len(v))
+    assert total == pytest.approx(1.0, rel=1e-10)
+    for q in rng.random((300, 3)):
+        vertices, faces = diagram.cells[power_owner(q, P, w)]
+        assert point_in_polyhedron(q, vertices, faces)
+    # many collinear sites: neighbours come from the 1D regular triangulation, not all pairs
+    n = 20000
+    line = np.c_[np.arange(n, dtype=float), np.zeros(n)]
+    cells = tess.power_diagram(line, np.zeros(n), bounds=(-1, -1, n, 1)).cells
+    assert polygon_area(cells[n // 2]) == pytest.approx(2.0)
+
+
 def test_power_diagram_bad_input():
     with pytest.raises(meshsmith.InputError, match="weights"):
         tess.power_diagram(np.zeros((3, 2)), np.zeros(2))

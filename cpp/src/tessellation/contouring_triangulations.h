@@ -4,6 +4,7 @@
 // contouring_triangulations_cgal.cpp). Indices refer to the rows of the input point matrix.
 #include <Eigen/Core>
 
+#include <utility>
 #include <vector>
 
 namespace meshsmith::tessellation::detail {
@@ -15,6 +16,8 @@ struct Triangulation {
   SimplexMatrix simplices;        ///< #S×(d+1) finite triangles (CCW in 2D) or tetrahedra (positive)
   int dimension = -1;             ///< dimension of the triangulation (< d for degenerate input)
   std::vector<bool> is_vertex;    ///< n flags: point i is a vertex of the triangulation
+  /// Finite edges, in every dimension >= 1 (on a line / in a plane for degenerate input).
+  std::vector<std::pair<int, int>> edges;
 };
 
 /// Regular (weighted Delaunay) triangulation of the rows of P (n×2 or n×3), weights = squared

@@ -47,6 +47,9 @@ Triangulation collect_2d(const Triangulation2& t, Eigen::Index n) {
   result.is_vertex.assign(static_cast<std::size_t>(n), false);
   for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
     result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
+    result.edges.emplace_back(e->first->vertex(t.cw(e->second))->info(),
+                              e->first->vertex(t.ccw(e->second))->info());
   if (t.dimension() < 2) return result;
   result.simplices.resize(static_cast<Eigen::Index>(t.number_of_faces()), 3);
   Eigen::Index row = 0;
@@ -63,6 +66,8 @@ Triangulation collect_3d(const Triangulation3& t, Eigen::Index n) {
   result.is_vertex.assign(static_cast<std::size_t>(n), false);
   for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
     result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
+    result.edges.emplace_back(e->first->vertex(e->second)->info(), e->first->vertex(e->third)->info());
   if (t.dimension() < 3) return result;
   result.simplices.resize(static_cast<Eigen::Index>(t.number_of_finite_cells()), 4);
   Eigen::Index row = 0;

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -217,16 +216,13 @@ PowerDiagram power_diagram(const Eigen::Ref<const Eigen::MatrixXd>& P,
 
   PowerDiagram result;
   result.triangulation = t.simplices;
-  std::vector<std::set<int>> neighbours(static_cast<std::size_t>(n));
-  if (t.dimension == d) {
-    for (Eigen::Index s = 0; s < t.simplices.rows(); ++s)
-      for (Eigen::Index a = 0; a <= d; ++a)
-        for (Eigen::Index b = 0; b <= d; ++b)
-          if (a != b) neighbours[t.simplices(s, a)].insert(t.simplices(s, b));
-  } else {  // degenerate sites: every visible site bounds every other
-    for (Eigen::Index i = 0; i < n; ++i)
-      for (Eigen::Index j = 0; j < n; ++j)
-        if (i != j && t.is_vertex[j]) neighbours[i].insert(static_cast<int>(j));
+  // Power neighbours = edges of the regular triangulation. For degenerate sites (on a line in 2D,
+  // in a plane in 3D) the lower-dimensional triangulation's edges still are: the bisecting
+  // hyperplanes are orthogonal to that line/plane.
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(n));
+  for (const auto& [a, b] : t.edges) {
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
   }
 
   double box_scale = bounds.cwiseAbs().maxCoeff();

@@ -31,7 +31,7 @@ struct PowerDiagram {
 /// { q in box : |q - p_i|^2 - w_i <= |q - p_j|^2 - w_j for all j }, w = squared radii.
 /// The regular triangulation comes from CGAL (Regular_triangulation_2/3, exact predicates). Each
 /// cell is built by clipping the box with the half-spaces of the site's neighbours in that
-/// triangulation (all other visible sites when it is degenerate); the half-spaces are linear in
+/// triangulation (of the lower-dimensional one for collinear/coplanar sites); the half-spaces are linear in
 /// q, so clipping in double with a relative tolerance of 1e-12 of the box size is accurate to
 /// about that tolerance (no cell is lost or duplicated: the tolerance only decides whether a
 /// corner on a clipping plane is kept).
