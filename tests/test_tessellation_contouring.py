@@ -187,6 +187,14 @@ def test_power_diagram_coplanar_sites_3d_and_many_collinear_sites():
     assert polygon_area(cells[n // 2]) == pytest.approx(2.0)
 
 
+def test_power_diagram_default_bounds_enlarge_the_bounding_box_by_ten_percent():
+    P = np.array([[0.0, 0.0, 0.0], [2.0, 1.0, 4.0], [1.0, 3.0, 1.0], [0.5, 0.5, 2.0]])
+    diagram = tess.power_diagram(P, np.zeros(4))
+    assert diagram.bounds == pytest.approx([-0.2, -0.3, 2.2, 3.3, -0.4, 4.4])
+    total = sum(polyhedron_volume(v, f) for v, f in diagram.cells if len(v))
+    assert total == pytest.approx(2.4 * 3.6 * 4.8, rel=1e-10)
+
+
 def test_power_diagram_bad_input():
     with pytest.raises(meshsmith.InputError, match="weights"):
         tess.power_diagram(np.zeros((3, 2)), np.zeros(2))
@@ -200,6 +208,12 @@ def test_power_diagram_bad_input():
         tess.power_diagram(np.random.default_rng(0).random((4, 2)), np.zeros(4), bounds=(1, 0, 0, 1))
     with pytest.raises(meshsmith.InputError, match="empty"):
         tess.power_diagram(np.zeros((0, 2)), np.zeros(0), bounds=(0, 0, 1, 1))
+    with pytest.raises(meshsmith.InputError, match="empty"):
+        tess.power_diagram(np.zeros((0, 2)), np.zeros(0))
+    with pytest.raises(meshsmith.InputError, match="not finite"):
+        tess.power_diagram(np.array([[0, 0], [1, np.inf]]), np.zeros(2))
+    with pytest.raises(meshsmith.InputError, match="weight 1 is not finite"):
+        tess.power_diagram(np.array([[0, 0], [1, 1.0]]), [0, np.nan])
 
 
 # ---------------------------------------------------------------------------------------------
