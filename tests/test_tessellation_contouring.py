@@ -408,7 +408,7 @@ def test_crust_3d_mesh_vertices(data_dir):
     for name, max_boundary_loops, spacing_fraction in cases:
         V0, F0 = meshsmith.io.read_mesh(str(data_dir / name))
         V, F = tess.crust_3d(V0)
-        assert topology.is_manifold(F), name
+        assert topology.is_manifold(F) and topology.is_oriented(F), name
         assert len(topology.boundary_loops(F)) <= max_boundary_loops, name
         assert hausdorff(V, F, V0, F0) < spacing_fraction * mean_spacing(V0), name
 
