@@ -1,0 +1,75 @@
+#pragma once
+// Curve and surface reconstruction from samples by Voronoi filtering (§2.1.3), with the
+// approximate medial axis and local feature size of §2.1.2.
+#include <meshsmith/core/types.h>
+
+#include <Eigen/Core>
+
+namespace meshsmith::tessellation {
+
+/// The crust of 2D samples (§2.1.3; Amenta, Bern & Eppstein 1998): Delaunay triangulation of the
+/// samples together with the Voronoi vertices of the samples (CGAL Delaunay_triangulation_2,
+/// exact predicates); the edges joining two samples form the reconstructed curve(s).
+/// samples: n×2. Returns #E×2 edges (i < j, sorted) into the samples. For an R-sample with
+/// R < 0.252 (the bound of the paper; the curriculum quotes the older R <= 0.06) each sample is
+/// joined to exactly its two neighbours along the curve.
+/// \pre n >= 3, finite, not all collinear, no two samples equal.
+/// \throw InputError if a precondition fails (naming the offending sample).
+EdgeMatrix crust(const Eigen::Ref<const Eigen::MatrixXd>& samples);
+
+/// Approximate medial axis of a curve sampled densely (§2.1.2): the part of the Voronoi diagram
+/// of the samples dual to the Delaunay edges that are not crust edges (the Voronoi edges that do
+/// not cross the curve). Its vertices are Voronoi vertices, which converge to the medial axis as
+/// the sampling gets denser (in 2D every Voronoi vertex does). Unbounded Voronoi edges (rays) are
+/// left out: the result is finite.
+struct MedialAxis {
+  Eigen::MatrixXd vertices;  ///< #MV×2 Voronoi vertices used by the edges
+  EdgeMatrix edges;          ///< #ME×2 Voronoi edges into `vertices`
+};
+
+/// \pre as crust. \throw InputError as crust.
+MedialAxis medial_axis(const Eigen::Ref<const Eigen::MatrixXd>& samples);
+
+/// Approximate local feature size LFS(p) = d(p, MA) of each sample (§2.1.2): the distance to the
+/// nearest vertex of medial_axis(samples). An approximation that converges as the sampling gets
+/// denser; it overestimates slightly where the medial-axis vertices are sparse.
+/// Returns n values. \pre as crust. \throw InputError as crust.
+Eigen::VectorXd local_feature_size(const Eigen::Ref<const Eigen::MatrixXd>& samples);
+
+/// Estimated sampling ratio: the smallest R for which the samples are an R-sample of the curve
+/// reconstructed by crust() (§2.1.2: every curve point c has a sample within R·LFS(c)). Each
+/// crust edge pq is taken as the curve between p and q; its worst point is its midpoint, at
+/// |pq|/2 from a sample, where LFS >= max(LFS(p), LFS(q)) - |pq|/2 (LFS is 1-Lipschitz), with LFS
+/// from local_feature_size(). Returns +inf when that bound is not positive.
+/// \pre as crust. \throw InputError as crust.
+double sampling_ratio(const Eigen::Ref<const Eigen::MatrixXd>& samples);
+
+struct CoconeOptions {
+  /// Half-opening of the cocone around the plane orthogonal to the pole vector, in radians
+  /// (θ = π/8 in Amenta, Choi, Dey & Leekha 2002).
+  double cocone_angle = 0.39269908169872414;
+  /// Holes of the extracted surface bounded by simple loops of at most this many edges are
+  /// closed by ear cutting (0: leave every hole open).
+  int max_hole_edges = 8;
+};
+
+/// Surface reconstruction by the Cocone algorithm (§2.1.3 in 3D; Amenta, Choi, Dey & Leekha
+/// 2002), a refinement of the Amenta–Bern–Kamvysselis crust with poles: Delaunay triangulation of
+/// the points (CGAL Delaunay_triangulation_3); each point's pole p+ is the farthest Voronoi vertex
+/// of its cell (on the convex hull: the average outward normal of its hull faces), n_p = p+ - p
+/// estimates the normal; a Delaunay triangle is a candidate when its dual Voronoi edge meets the
+/// cocone {x : angle(x - p, ±n_p) >= π/2 - θ} of each of its three corners. Manifold extraction:
+/// dangling candidates (a free edge and an edge shared by more than two candidates) are removed
+/// repeatedly, then the outer surface of what remains is collected by a walk that, across each
+/// edge, takes the neighbour first reached when turning outwards and never puts a third triangle
+/// on an edge (one walk per connected surface, seeded at its extreme point in x); finally small
+/// holes (simple boundary loops of at most max_hole_edges edges) are closed by ear cutting; at a
+/// vertex where the triangles form several fans only the largest fan is kept (then small holes
+/// are closed again; up to 3 rounds).
+/// points: n×3. Returns (V = the points, F = #F×3 triangles, outward-oriented where the walk could
+/// orient them). Manifold and watertight when the sampling is dense and free of noise.
+/// \pre n >= 4, finite, not coplanar, no two points equal.
+/// \throw InputError if a precondition fails.
+Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& points, const CoconeOptions& options = {});
+
+}  // namespace meshsmith::tessellation

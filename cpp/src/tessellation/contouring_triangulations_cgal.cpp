@@ -1,0 +1,122 @@
+// CGAL translation unit (compiled with CGAL's flags): the regular and Delaunay triangulations
+// behind power_diagram.cpp and voronoi_filtering.cpp, returned as plain index matrices.
+#include "contouring_triangulations.h"
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Regular_triangulation_2.h>
+#include <CGAL/Regular_triangulation_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <utility>
+#include <vector>
+
+namespace meshsmith::tessellation::detail {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+// Vertex bases carry the input row index as `info`.
+using RegularVertex2 = CGAL::Triangulation_vertex_base_with_info_2<
+    int, Kernel, CGAL::Regular_triangulation_vertex_base_2<Kernel>>;
+using RegularFace2 = CGAL::Regular_triangulation_face_base_2<Kernel>;
+using Regular2 = CGAL::Regular_triangulation_2<
+    Kernel, CGAL::Triangulation_data_structure_2<RegularVertex2, RegularFace2>>;
+
+using RegularVertex3 = CGAL::Triangulation_vertex_base_with_info_3<
+    int, Kernel, CGAL::Regular_triangulation_vertex_base_3<Kernel>>;
+using RegularCell3 = CGAL::Regular_triangulation_cell_base_3<Kernel>;
+using Regular3 = CGAL::Regular_triangulation_3<
+    Kernel, CGAL::Triangulation_data_structure_3<RegularVertex3, RegularCell3>>;
+
+using Delaunay2 = CGAL::Delaunay_triangulation_2<
+    Kernel, CGAL::Triangulation_data_structure_2<
+                CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>>>;
+using Delaunay3 = CGAL::Delaunay_triangulation_3<
+    Kernel, CGAL::Triangulation_data_structure_3<
+                CGAL::Triangulation_vertex_base_with_info_3<int, Kernel>>>;
+
+// Collects the finite simplices and the vertex flags of a 2D triangulation.
+template <typename Triangulation2>
+Triangulation collect_2d(const Triangulation2& t, Eigen::Index n) {
+  Triangulation result;
+  result.dimension = t.dimension();
+  result.is_vertex.assign(static_cast<std::size_t>(n), false);
+  for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
+    result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
+    result.edges.emplace_back(e->first->vertex(t.cw(e->second))->info(),
+                              e->first->vertex(t.ccw(e->second))->info());
+  if (t.dimension() < 2) return result;
+  result.simplices.resize(static_cast<Eigen::Index>(t.number_of_faces()), 3);
+  Eigen::Index row = 0;
+  for (auto f = t.finite_faces_begin(); f != t.finite_faces_end(); ++f, ++row)
+    for (int k = 0; k < 3; ++k) result.simplices(row, k) = f->vertex(k)->info();
+  result.simplices.conservativeResize(row, 3);
+  return result;
+}
+
+template <typename Triangulation3>
+Triangulation collect_3d(const Triangulation3& t, Eigen::Index n) {
+  Triangulation result;
+  result.dimension = t.dimension();
+  result.is_vertex.assign(static_cast<std::size_t>(n), false);
+  for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
+    result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
+    result.edges.emplace_back(e->first->vertex(e->second)->info(), e->first->vertex(e->third)->info());
+  if (t.dimension() < 3) return result;
+  result.simplices.resize(static_cast<Eigen::Index>(t.number_of_finite_cells()), 4);
+  Eigen::Index row = 0;
+  for (auto c = t.finite_cells_begin(); c != t.finite_cells_end(); ++c, ++row)
+    for (int k = 0; k < 4; ++k) result.simplices(row, k) = c->vertex(k)->info();
+  result.simplices.conservativeResize(row, 4);
+  return result;
+}
+
+}  // namespace
+
+Triangulation regular_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P,
+                                    const Eigen::Ref<const Eigen::VectorXd>& weights) {
+  const Eigen::Index n = P.rows();
+  if (P.cols() == 2) {
+    std::vector<std::pair<Regular2::Weighted_point, int>> points;
+    points.reserve(static_cast<std::size_t>(n));
+    for (Eigen::Index i = 0; i < n; ++i)
+      points.emplace_back(Regular2::Weighted_point(Kernel::Point_2(P(i, 0), P(i, 1)), weights(i)),
+                          static_cast<int>(i));
+    Regular2 t(points.begin(), points.end());
+    return collect_2d(t, n);
+  }
+  std::vector<std::pair<Regular3::Weighted_point, int>> points;
+  points.reserve(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    points.emplace_back(
+        Regular3::Weighted_point(Kernel::Point_3(P(i, 0), P(i, 1), P(i, 2)), weights(i)),
+        static_cast<int>(i));
+  Regular3 t(points.begin(), points.end());
+  return collect_3d(t, n);
+}
+
+Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P) {
+  const Eigen::Index n = P.rows();
+  if (P.cols() == 2) {
+    std::vector<std::pair<Kernel::Point_2, int>> points;
+    points.reserve(static_cast<std::size_t>(n));
+    for (Eigen::Index i = 0; i < n; ++i)
+      points.emplace_back(Kernel::Point_2(P(i, 0), P(i, 1)), static_cast<int>(i));
+    Delaunay2 t(points.begin(), points.end());
+    return collect_2d(t, n);
+  }
+  std::vector<std::pair<Kernel::Point_3, int>> points;
+  points.reserve(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    points.emplace_back(Kernel::Point_3(P(i, 0), P(i, 1), P(i, 2)), static_cast<int>(i));
+  Delaunay3 t(points.begin(), points.end());
+  return collect_3d(t, n);
+}
+
+}  // namespace meshsmith::tessellation::detail
