@@ -11,4 +11,5 @@ void bind_render(pybind11::module_& m);
 void bind_geometry(pybind11::module_& m);
 void bind_geometry_differential(pybind11::module_& m);  // called by bind_geometry
 void bind_points(pybind11::module_& m);
+void bind_tessellation_delaunay(pybind11::module_& m);
 }  // namespace meshsmith::python
