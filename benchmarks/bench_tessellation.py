@@ -58,19 +58,20 @@ def minimum_angle(V, F) -> float:
 def steiner_comparison() -> None:
     """Steiner points added by meshsmith.refine (CGAL's mesher) and by Triangle, same input/bound."""
     print("\nDelaunay refinement: Steiner points and minimum angle (meshsmith vs Triangle)")
-    print(f"{'domain':26s} {'bound':>6s} {'meshsmith pts':>14s} {'min angle':>10s} "
+    print(f"{'domain':36s} {'bound':>6s} {'meshsmith pts':>14s} {'min angle':>10s} "
           f"{'Triangle pts':>13s} {'min angle':>10s}")
     for name, (P, segments, holes) in refinement_domains().items():
-        for bound in (20.7, 30.0, 33.0):
-            V, F, steiner = refine(P, segments, holes, min_angle=bound)
+        for bound, max_area in ((20.7, None), (30.0, None), (33.0, None), (30.0, 0.01)):
+            V, F, steiner = refine(P, segments, holes, min_angle=bound, max_area=max_area)
             ours = f"{steiner:14d} {minimum_angle(V, F):10.2f}"
             if triangle is not None:
-                result = triangle_refine(P, segments, holes, bound)
+                result = triangle_refine(P, segments, holes, bound, max_area)
                 theirs = (f"{len(result['vertices']) - len(P):13d} "
                           f"{minimum_angle(result['vertices'], result['triangles']):10.2f}")
             else:
                 theirs = "   (triangle not installed)"
-            print(f"{name:26s} {bound:6.1f} {ours} {theirs}")
+            label = name + (f", area<={max_area}" if max_area else "")
+            print(f"{label:36s} {bound:6.1f} {ours} {theirs}")
 
 
 def main() -> None:

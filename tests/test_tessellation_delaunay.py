@@ -8,6 +8,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from scipy.spatial import ConvexHull
 from scipy.spatial import Delaunay as ScipyDelaunay
 
 from meshsmith import InputError, SolverError
@@ -112,10 +113,7 @@ def test_delaunay_random_points_empty_circles_and_scipy():
     assert_empty_circles(P, F)
     assert triangle_set(F) == triangle_set(ScipyDelaunay(P).simplices)
     # The triangles tile the convex hull.
-    hull_area = ScipyDelaunay(P).volume if hasattr(ScipyDelaunay(P), "volume") else None
-    from scipy.spatial import ConvexHull
     assert signed_areas(P, F).sum() == pytest.approx(ConvexHull(P).volume, rel=1e-12)
-    del hull_area
 
 
 def test_delaunay_matches_scipy_on_many_points():
@@ -298,10 +296,7 @@ def test_voronoi_vertices_and_edges():
     np.testing.assert_allclose(all_dist, dist[:, 0], rtol=1e-9)
     # Every edge is equidistant from its two sites; rays point away from the hull.
     finite = d.edges[:, 1] >= 0
-    from scipy.spatial import ConvexHull
-    hull = ConvexHull(P)
-    n_hull_edges = len(hull.simplices)
-    assert (~finite).sum() == n_hull_edges
+    assert (~finite).sum() == len(ConvexHull(P).simplices)
     for (a, b), (s, t), direction in zip(d.edges, d.edge_sites, d.directions):
         for point in ([d.vertices[a]] if b < 0 else [d.vertices[a], d.vertices[b]]):
             assert np.linalg.norm(point - P[s]) == pytest.approx(np.linalg.norm(point - P[t]))
@@ -311,6 +306,16 @@ def test_voronoi_vertices_and_edges():
             nearest_two = np.sort(np.linalg.norm(P - far, axis=1))[:2]
             assert nearest_two[0] == pytest.approx(np.linalg.norm(P[s] - far))
             assert nearest_two[1] == pytest.approx(np.linalg.norm(P[t] - far))
+
+
+def test_voronoi_of_a_grid_gives_square_cells():
+    x, y = np.meshgrid(np.arange(6.0), np.arange(5.0))
+    P = np.column_stack([x.ravel(), y.ravel()])
+    d = voronoi(P, (-0.5, -0.5, 5.5, 4.5))
+    for site, cell in zip(P, d.cells):
+        assert polygon_area(cell) == pytest.approx(1.0)
+        np.testing.assert_allclose(cell.min(axis=0), site - 0.5, atol=1e-12)
+        np.testing.assert_allclose(cell.max(axis=0), site + 0.5, atol=1e-12)
 
 
 def test_voronoi_default_bounds_and_duplicates():
@@ -420,15 +425,8 @@ def test_refine_meets_min_angle(domain, min_angle):
     assert signed_areas(V, F).sum() == pytest.approx(area)
     assert min_angles_degrees(V, F).min() >= min_angle - 1e-9
     assert_segments_are_edges(V, F, P, segments)
-    assert_empty_circles_constrained_sample(V, F)
+    assert flip_to_delaunay(V, F)[1] == 0  # every interior edge is locally Delaunay (exact)
     assert euler_characteristic(F) == (0 if domain == "square_with_hole" else 1)
-
-
-def assert_empty_circles_constrained_sample(V, F):
-    """Interior edges of a refined mesh are locally Delaunay (constrained Delaunay: edges on
-    segments may be exempt; a conforming Ruppert mesh has none that fail)."""
-    F2, flips = flip_to_delaunay(V, F)
-    assert flips == 0
 
 
 @pytest.mark.parametrize("min_angle", [20.7, 30.0])

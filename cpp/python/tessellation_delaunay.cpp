@@ -7,7 +7,9 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 
 namespace meshsmith::python {
 
@@ -28,7 +30,10 @@ void bind_tessellation_delaunay(py::module_& m) {
   m.def("delaunay", [](const py::object& P) {
         auto points = as_real_matrix(P, "P", 2);
         auto result = without_gil([&] { return tessellation::delaunay(map_points(points)); });
-        return py::make_tuple(indices_to_numpy(result.F), indices_to_numpy(result.merged));
+        py::array_t<std::int64_t> merged(result.merged.size());
+        std::copy(result.merged.data(), result.merged.data() + result.merged.size(),
+                  merged.mutable_data());
+        return py::make_tuple(indices_to_numpy(result.F), merged);
       },
       py::arg("P"));
 

@@ -37,8 +37,7 @@ def delaunay(P):
     may be returned. Raises InputError for NaN/Inf, fewer than 3 distinct points, or all points
     collinear.
     """
-    F, merged = _core.delaunay(P)
-    return F, merged.reshape(-1)
+    return _core.delaunay(P)
 
 
 def constrained_delaunay(P, segments, holes=None):
