@@ -457,3 +457,51 @@ def test_refine_bad_input_and_guard():
         refine(P, segments, max_area=1e-4, max_steiner_points=100)
     with pytest.raises(InputError, match="outside"):
         refine(P, np.array([[0, 99]]))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_refine_random_points_fills_the_hull(seed):
+    P = np.random.default_rng(seed).random((40, 2))
+    for bound in (20.7, 30.0, 33.0):
+        V, F, steiner = refine(P, None, min_angle=bound)
+        assert steiner > 0
+        assert signed_areas(V, F).sum() == pytest.approx(ConvexHull(P).volume, rel=1e-12)
+        assert min_angles_degrees(V, F).min() >= bound - 1e-9
+        assert flip_to_delaunay(V, F)[1] == 0
+
+
+def test_refine_crossing_segments():
+    P = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [0.3, 0.2], [1.7, 1.9]], dtype=float)
+    segments = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 2], [1, 3], [4, 5]])
+    V, F, steiner = refine(P, segments, min_angle=25.0)
+    assert signed_areas(V, F).sum() == pytest.approx(4)
+    assert_segments_are_edges(V, F, P, segments, tolerance=1e-12)
+    # Segment 4-5 crosses both diagonals at 5.5°: those two crossings are small input angles.
+    d = P[5] - P[4]
+    crossings = [P[4] + d * (P[4, 1] - P[4, 0]) / (d[0] - d[1]),                 # with y = x
+                 P[4] + d * (2 - P[4, 0] - P[4, 1]) / (d[0] + d[1])]          # with y = 2 - x
+    for c in crossings:
+        assert np.min(np.linalg.norm(V - c, axis=1)) < 1e-12
+    bad = min_angles_degrees(V, F) < 25.0 - 1e-9
+    centroids = V[F[bad]].mean(axis=1)
+    near = np.min([np.linalg.norm(centroids - c, axis=1) for c in crossings], axis=0)
+    assert np.all(near < 0.4)
+
+
+def test_refine_progress_and_cancel():
+    from meshsmith import Cancelled
+
+    P, segments = letter_e()
+    calls = []
+    refine(P, segments, max_area=1e-3, progress=lambda f, stage: calls.append((f, stage)))
+    assert calls and calls[-1] == (1.0, "refine")
+    with pytest.raises(Cancelled):
+        refine(P, segments, max_area=1e-4, progress=lambda f, stage: False)
+
+
+def test_bad_hole_seeds_and_collinear_voronoi():
+    P, segments, _ = square_with_hole()
+    with pytest.raises(InputError, match="holes"):
+        constrained_delaunay(P, segments, np.array([[np.inf, 0.0]]))
+    with pytest.raises(InputError, match="collinear"):
+        voronoi(np.array([[0, 0], [1, 1], [2, 2]], dtype=float))
