@@ -505,3 +505,20 @@ def test_bad_hole_seeds_and_collinear_voronoi():
         constrained_delaunay(P, segments, np.array([[np.inf, 0.0]]))
     with pytest.raises(InputError, match="collinear"):
         voronoi(np.array([[0, 0], [1, 1], [2, 2]], dtype=float))
+
+
+@pytest.mark.parametrize("scale", [2.0 ** 700, 2.0 ** -700])
+def test_constructions_are_scale_invariant(scale):
+    """Huge or tiny coordinates: squared lengths would overflow / underflow in float64; the
+    constructions work on exactly rescaled points, so the result is the scaled unit result."""
+    P, segments = letter_e()
+    V, F, steiner = refine(P, segments, min_angle=30.0)
+    V2, F2, steiner2 = refine(P * scale, segments, min_angle=30.0)
+    assert steiner2 == steiner
+    np.testing.assert_array_equal(F2, F)
+    np.testing.assert_array_equal(V2, V * scale)
+    rng = np.random.default_rng(10)
+    Q = rng.random((30, 2))
+    cells = voronoi(Q * scale).cells
+    box_area = np.prod(1.2 * (Q.max(axis=0) - Q.min(axis=0)))  # default bounds: +10% each side
+    assert sum(polygon_area(c / scale) for c in cells) == pytest.approx(box_area, rel=1e-9)

@@ -98,9 +98,10 @@ using Mesher = CGAL::Delaunay_mesher_2<Cdt, AngleAreaCriteria>;
 
 /// Checks the PSLG arguments, merges duplicate points and builds the CDT with its constraints.
 /// handle_of[i] is the vertex of input point i (duplicates share their representative's).
+/// The CDT holds the points multiplied by `scale` (detail::normalizing_scale).
 void build_constrained(const PointRef2& P, const SegmentRef& segments, const PointRef2& holes,
                        Cdt& cdt, std::vector<Cdt::Vertex_handle>& handle_of,
-                       std::vector<Point>& seeds) {
+                       std::vector<Point>& seeds, double& scale) {
   detail::require_finite(P, "P");
   detail::require_finite(holes, "holes");
   const int n = static_cast<int>(P.rows());
@@ -116,9 +117,11 @@ void build_constrained(const PointRef2& P, const SegmentRef& segments, const Poi
     if (representative[segments(s, 0)] == representative[segments(s, 1)])
       throw InputError("segments: row " + std::to_string(s) + " has zero length");
 
+  scale = detail::normalizing_scale(P);
   std::vector<std::pair<Point, InputIndex>> kept;
   for (int i = 0; i < n; ++i)
-    if (representative[i] == i) kept.push_back({Point(P(i, 0), P(i, 1)), InputIndex{i}});
+    if (representative[i] == i)
+      kept.push_back({Point(P(i, 0) * scale, P(i, 1) * scale), InputIndex{i}});
   cdt.insert(kept.begin(), kept.end());
   if (cdt.dimension() < 2) throw InputError("P: all points are collinear");
 
@@ -140,11 +143,11 @@ void build_constrained(const PointRef2& P, const SegmentRef& segments, const Poi
   }
 
   seeds.clear();
-  for (Eigen::Index h = 0; h < holes.rows(); ++h) seeds.emplace_back(holes(h, 0), holes(h, 1));
+  for (Eigen::Index h = 0; h < holes.rows(); ++h) seeds.emplace_back(holes(h, 0) * scale, holes(h, 1) * scale);
 }
 
 /// Input points first (unchanged), then every vertex CGAL created; triangles in the domain.
-PlanarMesh extract_domain(const PointRef2& P, const Cdt& cdt) {
+PlanarMesh extract_domain(const PointRef2& P, const Cdt& cdt, double scale) {
   const int n = static_cast<int>(P.rows());
   std::vector<Cdt::Vertex_handle> created;
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v)
@@ -155,7 +158,7 @@ PlanarMesh extract_domain(const PointRef2& P, const Cdt& cdt) {
   mesh.V.topRows(n) = P;
   for (int k = 0; k < mesh.steiner_count; ++k) {
     created[k]->info().value = n + k;  // the mesh is ours: number the new vertices in place
-    mesh.V.row(n + k) << created[k]->point().x(), created[k]->point().y();
+    mesh.V.row(n + k) << created[k]->point().x() / scale, created[k]->point().y() / scale;
   }
   std::vector<Eigen::Vector3i> triangles;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
@@ -210,11 +213,12 @@ PlanarMesh constrained_delaunay(const PointRef2& P, const SegmentRef& segments,
   Cdt cdt;
   std::vector<Cdt::Vertex_handle> handle_of;
   std::vector<Point> seeds;
-  build_constrained(P, segments, holes, cdt, handle_of, seeds);
+  double scale = 1;
+  build_constrained(P, segments, holes, cdt, handle_of, seeds, scale);
   // Flood fill across non-constrained edges: from the unbounded face and from every hole seed
   // (marked outside), everything else inside.
   Mesher::mark_facets(cdt, seeds.begin(), seeds.end(), false);
-  return extract_domain(P, cdt);
+  return extract_domain(P, cdt, scale);
 }
 
 PlanarMesh refine(const PointRef2& P, const SegmentRef& segments, const PointRef2& holes,
@@ -230,9 +234,10 @@ PlanarMesh refine(const PointRef2& P, const SegmentRef& segments, const PointRef
   Cdt cdt;
   std::vector<Cdt::Vertex_handle> handle_of;
   std::vector<Point> seeds;
-  build_constrained(P, segments, holes, cdt, handle_of, seeds);
+  double scale = 1;
+  build_constrained(P, segments, holes, cdt, handle_of, seeds, scale);
   const double sine = std::sin(options.min_angle_degrees * M_PI / 180.0);
-  Mesher mesher(cdt, AngleAreaCriteria(sine * sine, options.max_area));
+  Mesher mesher(cdt, AngleAreaCriteria(sine * sine, options.max_area * scale * scale));
   mesher.set_seeds(seeds.begin(), seeds.end(), false);
   mesher.init();
   const std::size_t limit = cdt.number_of_vertices() + static_cast<std::size_t>(options.max_steiner_points);
@@ -246,7 +251,7 @@ PlanarMesh refine(const PointRef2& P, const SegmentRef& segments, const PointRef
     if (++steps % 4096 == 0) progress.report(0.0, "refine");
   }
   progress.report(1.0, "refine");
-  return extract_domain(P, cdt);
+  return extract_domain(P, cdt, scale);
 }
 
 }  // namespace meshsmith::tessellation

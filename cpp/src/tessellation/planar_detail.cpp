@@ -37,6 +37,18 @@ std::vector<int> merge_duplicates(const PointRef2& P) {
   return representative;
 }
 
+double normalizing_scale(const PointRef2& P) {
+  const double magnitude = P.rows() ? P.cwiseAbs().maxCoeff() : 0.0;
+  if (magnitude == 0) return 1.0;
+  int exponent = 0;
+  std::frexp(magnitude, &exponent);  // magnitude = m * 2^exponent, m in [0.5, 1)
+  const double extent = (P.colwise().maxCoeff() - P.colwise().minCoeff()).maxCoeff();
+  if (extent < 1e-100 * magnitude)
+    throw InputError("P: the points span " + std::to_string(extent) +
+                     ", too small relative to their magnitude for constructed points");
+  return std::ldexp(1.0, -exponent);
+}
+
 void require_three_distinct(const std::vector<int>& representative) {
   int distinct = 0;
   for (std::size_t i = 0; i < representative.size() && distinct < 3; ++i)

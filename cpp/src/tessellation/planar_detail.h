@@ -20,6 +20,13 @@ void require_finite(const PointRef2& P, const char* name);
 /// Representative of each point: the smallest index with exactly the same coordinates.
 std::vector<int> merge_duplicates(const PointRef2& P);
 
+/// Power of two that brings the largest |coordinate| of P into [0.5, 1): multiplying by it is
+/// exact, so code that constructs points (circumcentres, intersections, Steiner points) can work on
+/// scaled coordinates without overflow or underflow of squared lengths, and scale back exactly.
+/// \throw InputError if the points span less than 1e-100 of their magnitude (squared lengths
+///        would underflow).
+double normalizing_scale(const PointRef2& P);
+
 /// \throw InputError if fewer than 3 of the representatives are distinct.
 void require_three_distinct(const std::vector<int>& representative);
 

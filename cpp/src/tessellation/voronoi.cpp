@@ -48,11 +48,14 @@ VoronoiDiagram voronoi(const PointRef2& P, const Eigen::Vector4d& bounds) {
   const FaceMatrix& F = diagram.delaunay.F;
   const Eigen::VectorXi& representative = diagram.delaunay.merged;
   const int n = static_cast<int>(P.rows());
-  auto site = [&](int i) { return Point2(P(i, 0), P(i, 1)); };
+  // Constructions run on exactly rescaled sites (no overflow / underflow of squared lengths).
+  const double scale = detail::normalizing_scale(P);
+  auto site = [&](int i) { return Point2(P(i, 0) * scale, P(i, 1) * scale); };
 
   diagram.vertices.resize(F.rows(), 2);
   for (Eigen::Index t = 0; t < F.rows(); ++t)
-    diagram.vertices.row(t) = circumcentre(site(F(t, 0)), site(F(t, 1)), site(F(t, 2))).transpose();
+    diagram.vertices.row(t) =
+        circumcentre(site(F(t, 0)), site(F(t, 1)), site(F(t, 2))).transpose() / scale;
 
   // One Voronoi edge per Delaunay edge: a segment between the circumcentres of its two
   // triangles, or (convex-hull edge) a ray from its triangle's circumcentre, pointing outwards.
@@ -80,8 +83,11 @@ VoronoiDiagram voronoi(const PointRef2& P, const Eigen::Vector4d& bounds) {
     ++e;
   }
 
-  const std::vector<Point2> box = {{bounds[0], bounds[1]}, {bounds[2], bounds[1]},
-                                   {bounds[2], bounds[3]}, {bounds[0], bounds[3]}};
+  const Eigen::Vector4d box_bounds = bounds * scale;
+  if (!box_bounds.allFinite())
+    throw InputError("bounds: too large relative to the points' coordinates");
+  const std::vector<Point2> box = {{box_bounds[0], box_bounds[1]}, {box_bounds[2], box_bounds[1]},
+                                   {box_bounds[2], box_bounds[3]}, {box_bounds[0], box_bounds[3]}};
   diagram.cells.resize(n);
   for (int i = 0; i < n; ++i) {
     if (representative[i] != i) continue;
@@ -91,7 +97,8 @@ VoronoiDiagram voronoi(const PointRef2& P, const Eigen::Vector4d& bounds) {
       cell = clip(cell, (site(i) + site(j)) / 2, site(j) - site(i));
     }
     diagram.cells[i].resize(static_cast<Eigen::Index>(cell.size()), 2);
-    for (std::size_t k = 0; k < cell.size(); ++k) diagram.cells[i].row(k) = cell[k].transpose();
+    for (std::size_t k = 0; k < cell.size(); ++k)
+      diagram.cells[i].row(k) = cell[k].transpose() / scale;
   }
   for (int i = 0; i < n; ++i)
     if (representative[i] != i) diagram.cells[i] = diagram.cells[representative[i]];
