@@ -44,7 +44,8 @@ def constrained_delaunay(P, segments, holes=None):
     """Constrained Delaunay triangulation of a planar straight-line graph, restricted to its domain.
 
     P: (n, 2) points. segments: (s, 2) integer index pairs into P, each becoming an edge (or a
-    chain of edges when points lie on it or segments cross). holes: (h, 2) seed points, or None.
+    chain of edges when points lie on it or segments cross); None or empty: the convex hull
+    edges are the segments. holes: (h, 2) seed points, or None.
     The domain (Triangle's convention) is every triangle that cannot be reached from outside the
     convex hull, nor from the triangle holding a hole seed, without crossing a segment.
     Returns (V, F): V (n + k, 2) is P unchanged followed by the k intersection points of
@@ -110,16 +111,19 @@ def refine(P, segments, holes=None, min_angle: float = 20.7, max_area: float | N
            max_steiner_points: int = 1_000_000, progress=None):
     """Ruppert/Chew Delaunay refinement of a planar straight-line graph (quality triangulation).
 
-    P: (n, 2) points; segments: (s, 2) index pairs; holes: (h, 2) seed points or None (domain as
-    in constrained_delaunay). min_angle: degrees, in (0, 35); max_area: > 0 to bound triangle
+    P: (n, 2) points; segments: (s, 2) index pairs or None; holes: (h, 2) seed points or None
+    (domain as in constrained_delaunay). min_angle: degrees, in (0, 35); max_area: > 0 to bound triangle
     areas, or None. Uses CGAL's Delaunay_mesher_2: circumcentres of bad triangles are inserted,
     segments encroached upon (diametral circles) are split at midpoints first, with Shewchuk's
     cluster treatment of small input angles. Termination is guaranteed for min_angle ≤ 20.7°
     and usual up to about 33°. Triangles at (or next to) a corner where input segments meet
     at less than 60° may keep angles below min_angle: the bound holds away from small input
     angles.
-    Returns (V, F, steiner_count): V (n + k, 2) is P followed by the k added points, F (m, 3)
-    int64 CCW triangles of the domain.
+    Returns (V, F, steiner_count): V (n + k, 2) is P followed by the k added points (segment
+    intersections included), F (m, 3) int64 CCW triangles of the domain.
+    Choice of CGAL's mesher over own code: it meets the guarantees above and, on the test
+    domains, adds about as many Steiner points as Shewchuk's Triangle (see
+    benchmarks/bench_tessellation.py); it is several times slower than Triangle on large meshes.
     Raises InputError as constrained_delaunay or for a bad min_angle / max_area; SolverError
     when more than max_steiner_points points would be inserted (so it never hangs).
     """

@@ -7,7 +7,9 @@
 /// Points are row-major (n, 2) double matrices; triangles are (m, 3) int rows, counter-clockwise.
 /// Triangulations and the incircle / orientation tests behind them use exact predicates (CGAL's
 /// filtered kernel), so degenerate input (collinear triples, cocircular quadruples) is handled
-/// consistently; constructed points (intersections, circumcentres, Steiner points) are doubles.
+/// consistently; constructed points (intersections, circumcentres, Steiner points) are doubles,
+/// computed on the points multiplied by a power of two that brings them to unit magnitude (exact),
+/// so huge or tiny coordinates neither overflow nor underflow.
 #include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
 
@@ -51,7 +53,8 @@ struct PlanarMesh {
 /// (Triangle's convention). Duplicate input points stay in V but are unreferenced.
 /// \pre segments index P; no zero-length segment.
 /// \throw InputError for NaN/Inf, an out-of-range or degenerate segment, fewer than 3 distinct
-///        points, all points collinear, or a hole seed with NaN/Inf.
+///        points, all points collinear, points spanning less than 1e-100 of their magnitude, or
+///        a hole seed with NaN/Inf.
 PlanarMesh constrained_delaunay(const PointRef2& P, const SegmentRef& segments,
                                 const PointRef2& holes);
 
@@ -102,7 +105,8 @@ struct VoronoiDiagram {
 /// Voronoi diagram of P (n, 2) with cells clipped to the box bounds = (xmin, ymin, xmax, ymax).
 /// Cells come from clipping the box by the bisector half-planes of each site's Delaunay neighbours
 /// (Sutherland-Hodgman in double precision). Duplicate points share their representative's cell.
-/// \throw InputError as delaunay(), or for an empty / non-finite box.
+/// \throw InputError as delaunay(), for points spanning less than 1e-100 of their magnitude, or
+///        for an empty / non-finite box.
 VoronoiDiagram voronoi(const PointRef2& P, const Eigen::Vector4d& bounds);
 
 }  // namespace meshsmith::tessellation
