@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from harness import Benchmark  # noqa: E402
 
 import meshsmith  # noqa: E402
-from meshsmith import _contouring as tess  # noqa: E402
+from meshsmith import tessellation as tess  # noqa: E402
 
 try:
     import open3d as o3d

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import meshsmith
-from meshsmith import _contouring as tess
+from meshsmith import tessellation as tess
 from meshsmith import topology
 
 

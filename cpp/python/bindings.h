@@ -12,5 +12,6 @@ void bind_geometry(pybind11::module_& m);
 void bind_geometry_differential(pybind11::module_& m);  // called by bind_geometry
 void bind_geometry_metrics(pybind11::module_& m);       // called by bind_geometry
 void bind_points(pybind11::module_& m);
+void bind_tessellation_delaunay(pybind11::module_& m);    // module.cpp calls both on "tessellation"
 void bind_tessellation_contouring(pybind11::module_& m);
 }  // namespace meshsmith::python

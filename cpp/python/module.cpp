@@ -24,5 +24,6 @@ PYBIND11_MODULE(_core, m) {
   auto points = m.def_submodule("points");
   meshsmith::python::bind_points(points);
   auto tessellation = m.def_submodule("tessellation");
+  meshsmith::python::bind_tessellation_delaunay(tessellation);
   meshsmith::python::bind_tessellation_contouring(tessellation);
 }

@@ -6,9 +6,9 @@ Chapters are submodules (``meshsmith.io``, ``meshsmith.topology``, ...); errors 
 and :class:`Cancelled` (a progress callback returned False).
 """
 from ._core import Cancelled, InputError, SolverError
-from . import core, curves, datasets, geometry, io, points, render, topology
+from . import core, curves, datasets, geometry, io, points, render, tessellation, topology
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "datasets",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "datasets",
            "__version__"]

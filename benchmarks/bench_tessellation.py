@@ -1,0 +1,114 @@
+"""Tessellation chapter benchmarks: 2D Delaunay against scipy and Shewchuk's Triangle, Delaunay
+refinement against Triangle (time and Steiner point counts on the same input and angle bound).
+
+Peers: scipy.spatial.Delaunay (Qhull), `triangle` (PyPI wrapper of Shewchuk's Triangle; absent
+peers are reported as failures, not fatal).
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial import Delaunay as ScipyDelaunay
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from harness import Benchmark  # noqa: E402
+
+from meshsmith.tessellation import constrained_delaunay, delaunay, refine  # noqa: E402
+
+try:
+    import triangle
+except Exception:  # optional peer: `pip install triangle`
+    triangle = None
+
+
+def refinement_domains() -> dict:
+    """PSLGs (points, segments, hole seeds) used for the refinement comparison."""
+    square_hole = (np.array([[0, 0], [4, 0], [4, 4], [0, 4], [1, 1], [3, 1], [3, 3], [1, 3]], float),
+                   np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]),
+                   np.array([[2.0, 2.0]]))
+    outline = np.array([[0, 0], [5, 0], [5, 1], [1.2, 1], [1.2, 2], [4, 2], [4, 3], [1.2, 3],
+                        [1.2, 4], [5, 4], [5, 5], [0, 5]], float)
+    letter_e = (outline, np.array([[i, (i + 1) % 12] for i in range(12)]), None)
+    wedge = (np.array([[0, 0], [10, 0], [10, 10 * np.tan(np.radians(5.0))]]),  # 5° at the origin
+             np.array([[0, 1], [1, 2], [2, 0]]), None)
+    return {"square with square hole": square_hole, "letter E": letter_e, "5-degree wedge": wedge}
+
+
+def triangle_refine(P, segments, holes, min_angle, max_area=None):
+    pslg = {"vertices": P, "segments": segments}
+    if holes is not None:
+        pslg["holes"] = holes
+    switches = f"pq{min_angle}" + (f"a{max_area}" if max_area else "") + "Q"
+    return triangle.triangulate(pslg, switches)
+
+
+def minimum_angle(V, F) -> float:
+    corners = V[F]
+    smallest = np.inf
+    for k in range(3):
+        u = corners[:, (k + 1) % 3] - corners[:, k]
+        w = corners[:, (k + 2) % 3] - corners[:, k]
+        cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
+        smallest = min(smallest, np.degrees(np.arccos(np.clip(cos, -1, 1))).min())
+    return float(smallest)
+
+
+def steiner_comparison() -> None:
+    """Steiner points added by meshsmith.refine (CGAL's mesher) and by Triangle, same input/bound."""
+    print("\nDelaunay refinement: Steiner points and minimum angle (meshsmith vs Triangle)")
+    print(f"{'domain':36s} {'bound':>6s} {'meshsmith pts':>14s} {'min angle':>10s} "
+          f"{'Triangle pts':>13s} {'min angle':>10s}")
+    for name, (P, segments, holes) in refinement_domains().items():
+        for bound, max_area in ((20.7, None), (30.0, None), (33.0, None), (30.0, 0.01)):
+            V, F, steiner = refine(P, segments, holes, min_angle=bound, max_area=max_area)
+            ours = f"{steiner:14d} {minimum_angle(V, F):10.2f}"
+            if triangle is not None:
+                result = triangle_refine(P, segments, holes, bound, max_area)
+                theirs = (f"{len(result['vertices']) - len(P):13d} "
+                          f"{minimum_angle(result['vertices'], result['triangles']):10.2f}")
+            else:
+                theirs = "   (triangle not installed)"
+            label = name + (f", area<={max_area}" if max_area else "")
+            print(f"{label:36s} {bound:6.1f} {ours} {theirs}")
+
+
+def main() -> None:
+    rng = np.random.default_rng(0)
+    P = rng.random((1_000_000, 2))
+    bench = Benchmark("tessellation", "2D Delaunay, 1M uniform random points", repeats=3)
+    bench.time("meshsmith", lambda: delaunay(P))
+    bench.time("scipy.spatial.Delaunay", lambda: ScipyDelaunay(P))
+    if triangle is not None:
+        bench.time("triangle", lambda: triangle.triangulate({"vertices": P}, "Q"))
+    bench.report()
+
+    # Constrained Delaunay: a polygon with many edges (a wavy circle) plus interior points.
+    k = 20_000
+    angles = np.linspace(0, 2 * np.pi, k, endpoint=False)
+    radius = 1 + 0.1 * np.sin(17 * angles)
+    boundary = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
+    interior = rng.uniform(-0.8, 0.8, size=(200_000, 2)) * 0.85
+    points = np.vstack([boundary, interior])
+    segments = np.column_stack([np.arange(k), (np.arange(k) + 1) % k])
+    bench = Benchmark("tessellation", "constrained Delaunay, 20k-edge polygon + 200k points",
+                      repeats=3)
+    bench.time("meshsmith", lambda: constrained_delaunay(points, segments))
+    if triangle is not None:
+        bench.time("triangle", lambda: triangle.triangulate(
+            {"vertices": points, "segments": segments}, "pQ"))
+    bench.report()
+
+    P_e, segments_e, _ = refinement_domains()["letter E"]
+    bench = Benchmark("tessellation", "refine letter E, min angle 30, max area 1e-4", repeats=3)
+    bench.time("meshsmith", lambda: refine(P_e, segments_e, min_angle=30.0, max_area=1e-4))
+    if triangle is not None:
+        bench.time("triangle", lambda: triangle_refine(P_e, segments_e, None, 30.0, 1e-4))
+    bench.report()
+
+    steiner_comparison()
+
+
+if __name__ == "__main__":
+    main()
