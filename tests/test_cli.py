@@ -22,7 +22,8 @@ def sphere_file(tmp_path):
     return path
 
 
-@pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["curvature"], ["normals"], ["demo"]])
+@pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["curvature"], ["normals"],
+                                     ["triangulate"], ["voronoi"], ["crust"], ["power"], ["demo"]])
 def test_every_command_has_help(command):
     result = run(*command, "--help")
     assert result.returncode == 0 and "usage: meshsmith" in result.stdout
@@ -100,6 +101,10 @@ def test_demo_writes_a_report_whose_pictures_exist(tmp_path):
     figures = json.loads((out / "results.json").read_text())
     assert figures["input"]["genus"] == 1
     assert figures["curvature"]["Gauss-Bonnet error"] < 1e-9          # torus: Σ K = 0
+    assert figures["tessellation"]["refinement: smallest angle (degrees)"] >= 30.0
+    assert figures["crust"]["3D crust: manifold"] is True
+    assert figures["crust"]["3D crust: Euler characteristic"] == 0   # the torus, rebuilt from samples
+    assert figures["crust"]["3D crust: Hausdorff distance / bounding-box diagonal"] < 0.01
 
 
 def test_demo_on_an_input_file(tmp_path, sphere_file):
@@ -156,3 +161,108 @@ def test_curvature_picture_and_bad_output(sphere_file, tmp_path):
         assert image.size == (300, 200)
     result = run("curvature", sphere_file, "-o", tmp_path / "h.txt")
     assert result.returncode == 1 and ".png" in result.stderr
+
+
+SQUARE_WITH_HOLE = """# unit square with a square hole (Triangle's .poly format, ids from 1)
+8 2 0 0
+1 0 0
+2 1 0
+3 1 1
+4 0 1
+5 0.4 0.4
+6 0.6 0.4
+7 0.6 0.6
+8 0.4 0.6
+8 0
+1 1 2
+2 2 3
+3 3 4
+4 4 1
+5 5 6
+6 6 7
+7 7 8
+8 8 5
+1
+1 0.5 0.5
+"""
+
+
+def test_read_poly(tmp_path):
+    path = tmp_path / "domain.poly"
+    path.write_text(SQUARE_WITH_HOLE)
+    P, segments, holes = io.read_poly(path)
+    assert P.shape == (8, 2) and segments.shape == (8, 2) and holes.tolist() == [[0.5, 0.5]]
+    assert segments.min() == 0 and segments.max() == 7 and segments[0].tolist() == [0, 1]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("4 3 0 0\n", "dimension 3"),
+    ("3 2 0 0\n1 0 0\n2 1 0\n", "file ends before the vertex list"),
+    ("3 2 0 0\n1 0 0\n2 1 x\n3 0 1\n", ":3: unreadable number"),
+    ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n1 0\n1 1 9\n", "names a vertex outside"),
+    ("-5 2 0 0\n", "out of range"),
+])
+def test_read_poly_rejects_malformed_files(tmp_path, text, message):
+    path = tmp_path / "bad.poly"
+    path.write_text(text)
+    with pytest.raises(Exception) as error:
+        io.read_poly(path)
+    assert isinstance(error.value, ValueError) and message in str(error.value) and "bad.poly" in str(error.value)
+
+
+def test_triangulate_meets_the_angle_bound_and_keeps_the_hole(tmp_path):
+    domain = tmp_path / "domain.poly"
+    domain.write_text(SQUARE_WITH_HOLE)
+    out, picture = tmp_path / "refined.obj", tmp_path / "refined.png"
+    result = run("triangulate", domain, "--min-angle", "30", "--max-area", "0.005", "-o", out, "--picture", picture)
+    assert result.returncode == 0, result.stderr
+    V, F = io.read_mesh(out)
+    from meshsmith import tessellation
+    angles = tessellation.triangle_angles(V[:, :2], F)
+    assert angles.min() >= 30.0 - 1e-9 and np.allclose(angles.sum(axis=1), 180.0)
+    from meshsmith import geometry, topology
+    assert geometry.surface_area(V, F) == pytest.approx(1.0 - 0.04, rel=1e-12)   # hole removed
+    assert topology.info(V, F).n_boundary_loops == 2
+    assert picture.stat().st_size > 1000
+
+
+def test_voronoi_power_and_crust_pictures(tmp_path):
+    from PIL import Image
+    rng = np.random.default_rng(3)
+    sites = rng.random((40, 2))
+    np.savetxt(tmp_path / "sites.txt", sites)
+    np.savetxt(tmp_path / "weighted.txt", np.column_stack([sites, rng.random(40) * 0.01]))
+    t = np.linspace(0, 2 * np.pi, 100, endpoint=False)
+    np.savetxt(tmp_path / "curve.txt", np.column_stack([np.cos(t), 0.5 * np.sin(t)]))
+    assert run("voronoi", tmp_path / "sites.txt", "-o", tmp_path / "v.png").returncode == 0
+    assert run("power", tmp_path / "weighted.txt", "-o", tmp_path / "p.png").returncode == 0
+    crust = run("crust", tmp_path / "curve.txt", "-o", tmp_path / "c.png")
+    assert crust.returncode == 0 and "100 curve edges through 100 samples" in crust.stdout
+    for name in ("v.png", "p.png", "c.png"):
+        with Image.open(tmp_path / name) as image:
+            assert image.size == (800, 800)
+    unweighted = run("power", tmp_path / "sites.txt", "-o", tmp_path / "x.png")
+    assert unweighted.returncode == 1 and "weight" in unweighted.stderr
+
+
+def test_crust_3d_of_a_point_cloud(tmp_path):
+    from meshsmith import topology
+    P, _ = datasets.sample_points(*datasets.icosphere(4), 2000, seed=4)
+    io.write_points(tmp_path / "sphere.xyz", P)
+    result = run("crust", tmp_path / "sphere.xyz", "-o", tmp_path / "sphere.ply")
+    assert result.returncode == 0, result.stderr
+    V, F = io.read_mesh(tmp_path / "sphere.ply")
+    assert topology.is_manifold(F) and topology.euler_characteristic(V, F) == 2
+
+
+def test_plot_planar_draws_each_layer_and_rejects_nothing():
+    from meshsmith import render
+    V2 = np.array([[0.0, 0], [1, 0], [0, 1]])
+    empty = render.plot_planar(points=V2, size=(200, 200))
+    filled = render.plot_planar(triangles=(V2, [[0, 1, 2]]), size=(200, 200))
+    assert empty.shape == filled.shape == (200, 200, 3)
+    assert (filled < 250).any(axis=2).sum() > 5 * (empty < 250).any(axis=2).sum()  # the fill shows
+    with pytest.raises(ValueError, match="nothing to draw"):
+        render.plot_planar()
+    with pytest.raises(ValueError, match="indices"):
+        render.plot_planar(triangles=(V2, [[0, 1, 5]]))

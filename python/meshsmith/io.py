@@ -30,10 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._core import InputError
 from ._core import io as _core
 
 __all__ = ["Polygons", "MeshWithAttributes", "read_mesh", "read_mesh_with_attributes",
-           "write_mesh", "read_points", "write_points"]
+           "write_mesh", "read_points", "write_points", "read_poly"]
 
 _BINARY_BY_DEFAULT = {"ply": True, "stl": True, "off": False, "obj": False, "xyz": False}
 
@@ -226,3 +227,81 @@ def write_points(path, P, N=None, *, format: str | None = None, binary: bool | N
     if binary is None:
         binary = _BINARY_BY_DEFAULT.get(fmt, False)
     _core.write_points(os.fsdecode(path), P, N, _format(format), bool(binary), bool(big_endian))
+
+
+def read_poly(path):
+    """Read a planar straight-line graph in Shewchuk's Triangle ``.poly`` format.
+
+    The file holds a vertex section (``n 2 attributes markers`` then ``id x y [attributes]
+    [marker]`` lines), a segment section (``s markers`` then ``id a b [marker]``) and a hole
+    section (``h`` then ``id x y``); ``#`` starts a comment; vertex ids may start at 0 or 1.
+    Returns (P (n, 2) float64, segments (s, 2) int64 zero-based, holes (h, 2) float64).
+    Raises InputError naming the file and line for a missing file, a malformed or truncated
+    section, a dimension other than 2, or a segment index that names no vertex.
+    """
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise InputError(f"{path} does not exist" if not os.path.exists(path) else f"{path} is not a file")
+    with open(path, "r", encoding="utf-8", errors="replace") as stream:
+        lines = [(number, text.split("#", 1)[0].split()) for number, text in enumerate(stream, 1)]
+    records = iter([(number, fields) for number, fields in lines if fields])
+
+    def take(what, count=None):
+        try:
+            number, fields = next(records)
+        except StopIteration:
+            raise InputError(f"{path}: file ends before the {what}") from None
+        if count is not None and len(fields) < count:
+            raise InputError(f"{path}:{number}: expected at least {count} numbers in the {what}")
+        return number, fields
+
+    def numbers(number, fields, kind, what):
+        try:
+            return [kind(field) for field in fields]
+        except ValueError:
+            raise InputError(f"{path}:{number}: unreadable number in the {what}: {' '.join(fields)}") from None
+
+    number, fields = take("vertex header", 2)
+    n, dimension = numbers(number, fields[:2], int, "vertex header")
+    if dimension != 2:
+        raise InputError(f"{path}:{number}: dimension {dimension}: .poly files here are planar (2)")
+    if n < 0 or n > 100_000_000:
+        raise InputError(f"{path}:{number}: vertex count {n} is out of range")
+    ids, P = [], []
+    for _ in range(n):
+        number, fields = take("vertex list", 3)
+        values = numbers(number, fields[:3], float, "vertex list")
+        ids.append(int(values[0]))
+        P.append(values[1:3])
+    P = np.array(P, dtype=np.float64).reshape(-1, 2)
+    first = min(ids) if ids else 0
+    segments, holes = np.zeros((0, 2), np.int64), np.zeros((0, 2), np.float64)
+
+    def optional_section_count(what):
+        """The count on a section's header line, or None where the file ends before it."""
+        try:
+            number, fields = next(records)
+        except StopIteration:
+            return None
+        (count,) = numbers(number, fields[:1], int, what)
+        if count < 0 or count > 100_000_000:
+            raise InputError(f"{path}:{number}: {what.split()[0]} count {count} is out of range")
+        return count
+
+    s = optional_section_count("segment header")
+    if s is None:
+        return P, segments, holes
+    rows = []
+    for _ in range(s):
+        number, fields = take("segment list", 3)
+        a, b = numbers(number, fields[1:3], int, "segment list")
+        if not (first <= a < first + n and first <= b < first + n):
+            raise InputError(f"{path}:{number}: segment ({a}, {b}) names a vertex outside {first}..{first + n - 1}")
+        rows.append((a - first, b - first))
+    segments = np.array(rows, dtype=np.int64).reshape(-1, 2)
+    h = optional_section_count("hole header")
+    if h is None:
+        return P, segments, holes
+    holes = np.array([numbers(*take("hole list", 3), float, "hole list")[1:3] for _ in range(h)],
+                     dtype=np.float64).reshape(-1, 2)
+    return P, segments, holes

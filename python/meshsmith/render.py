@@ -290,6 +290,104 @@ def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="vi
                   supersample=supersample)
 
 
+def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygons=None,
+                highlight=None, size=(800, 800), title=None, supersample=3) -> np.ndarray:
+    """Draw planar (2D) geometry: triangulations, curves, cells and points, for the tessellation
+    chapter's pictures.
+
+    points: (n, 2) array drawn as dots. triangles: (V (k, 2), F (m, 3)) drawn filled light blue
+    with dark edges. segments: (P (k, 2), E (e, 2)) drawn as thick dark lines (e.g. a
+    reconstructed curve). polygons: a list of (j, 2) arrays (e.g. Voronoi or power cells) drawn
+    as outlines, each filled with a pale colour of its own. highlight: (h, 2) points drawn larger
+    in red (e.g. Steiner points or medial-axis vertices). All layers share one view that keeps
+    the aspect ratio and frames everything given. Returns the (height, width, 3) uint8 picture;
+    writes a PNG if `path` is given. Raises InputError for bad shapes or nothing to draw.
+    """
+    Image, ImageDraw, _ = _pillow()
+    width, height = _check_size(size)
+    scale_factor = int(supersample)
+    if scale_factor < 1:
+        raise InputError(f"supersample = {supersample}: expected an integer >= 1")
+
+    def planar(array, name, columns=2):
+        array = np.asarray(array, dtype=float)
+        if array.ndim != 2 or array.shape[1] != columns:
+            raise InputError(f"{name} has shape {array.shape}: expected (n, {columns})")
+        if not np.isfinite(array).all():
+            raise InputError(f"{name} holds NaN or Inf")
+        return array
+
+    layers = []
+    if triangles is not None:
+        TV, TF = planar(triangles[0], "triangles vertices"), np.asarray(triangles[1], dtype=np.int64)
+        if TF.ndim != 2 or TF.shape[1] != 3 or (TF.size and (TF.min() < 0 or TF.max() >= len(TV))):
+            raise InputError("triangles faces must be (m, 3) indices into the triangle vertices")
+        layers.append(TV)
+    if segments is not None:
+        SP, SE = planar(segments[0], "segment points"), np.asarray(segments[1], dtype=np.int64)
+        if SE.ndim != 2 or SE.shape[1] != 2 or (SE.size and (SE.min() < 0 or SE.max() >= len(SP))):
+            raise InputError("segments edges must be (e, 2) indices into the segment points")
+        layers.append(SP[np.unique(SE)] if SE.size else SP[:0])
+    cells = [planar(cell, f"polygons[{i}]") for i, cell in enumerate(polygons or []) if len(cell)]
+    layers.extend(cells)
+    if points is not None:
+        points = planar(points, "points")
+        layers.append(points)
+    if highlight is not None:
+        highlight = planar(highlight, "highlight")
+        layers.append(highlight)
+    everything = np.vstack([layer for layer in layers if len(layer)]) if any(len(l) for l in layers) else None
+    if everything is None:
+        raise InputError("plot_planar: nothing to draw")
+
+    title_height = 44 if title else 0
+    low, high = everything.min(axis=0), everything.max(axis=0)
+    extent = np.maximum(high - low, 1e-12 * max(1.0, float(np.abs(everything).max())))
+    margin = 24
+    usable = np.array([width - 2 * margin, height - title_height - 2 * margin], dtype=float)
+    scale = float(np.min(usable / extent))
+    offset = np.array([margin, title_height + margin]) + 0.5 * (usable - extent * scale)
+
+    def to_pixels(xy):
+        pixel = (xy - low) * scale + offset
+        pixel[:, 1] = height - pixel[:, 1] + title_height  # y up
+        return pixel * scale_factor
+
+    image = Image.new("RGB", (width * scale_factor, height * scale_factor), (255, 255, 255))
+    draw = ImageDraw.Draw(image)
+    line = max(1, scale_factor)
+    palette = [(221, 232, 247), (250, 228, 214), (224, 240, 221), (244, 224, 240), (250, 242, 204),
+               (222, 238, 240)]
+    for index, cell in enumerate(cells):
+        corners = [tuple(p) for p in to_pixels(cell)]
+        if len(corners) >= 3:
+            draw.polygon(corners, fill=palette[index % len(palette)], outline=(60, 70, 90))
+            draw.line(corners + [corners[0]], fill=(60, 70, 90), width=line)
+    if triangles is not None:
+        pixels = to_pixels(TV)
+        for face in TF:
+            corners = [tuple(pixels[i]) for i in face]
+            draw.polygon(corners, fill=(204, 222, 245))
+            draw.line(corners + [corners[0]], fill=(45, 55, 75), width=line)
+    if segments is not None and SE.size:
+        pixels = to_pixels(SP)
+        for a, b in SE:
+            draw.line([tuple(pixels[a]), tuple(pixels[b])], fill=(20, 30, 50), width=3 * line)
+    for dots, radius, colour in ((points, 2.2, (30, 60, 140)), (highlight, 3.5, (205, 50, 40))):
+        if dots is None:
+            continue
+        r = radius * scale_factor
+        for x, y in to_pixels(dots):
+            draw.ellipse([x - r, y - r, x + r, y + r], fill=colour)
+    image = image.resize((width, height), Image.LANCZOS)
+    if title:
+        ImageDraw.Draw(image).text((width / 2, 22), title, fill=(40, 40, 48), font=_font(20), anchor="mm")
+    canvas = np.asarray(image, dtype=np.uint8).copy()
+    if path is not None:
+        _save_png(canvas, path)
+    return canvas
+
+
 # ---- helpers ----------------------------------------------------------------------------------
 
 def _check_size(size) -> tuple[int, int]:

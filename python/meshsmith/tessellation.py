@@ -34,6 +34,7 @@ __all__ = [
     "is_r_sample",
     "crust_3d",
     "default_bounds",
+    "triangle_angles",
 ]
 
 
@@ -292,3 +293,28 @@ def crust_3d(points, *, cocone_angle: float = np.pi / 8,
     Raises InputError if a precondition fails.
     """
     return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges))
+
+
+def triangle_angles(V, F) -> np.ndarray:
+    """Interior angles in degrees of planar triangles: V (n, 2) points, F (m, 3) indices.
+
+    Returns (m, 3): column c is the angle at corner c (atan2 of |cross| and dot, accurate for
+    tiny and obtuse angles alike). The quality measure of Delaunay refinement (§2.1.1).
+    Raises InputError for shapes other than (n, 2) and (m, 3) or out-of-range indices.
+    """
+    V = np.asarray(V, dtype=float)
+    F = np.asarray(F)
+    if V.ndim != 2 or V.shape[1] != 2:
+        raise InputError(f"V has shape {V.shape}: expected (n, 2)")
+    if F.ndim != 2 or F.shape[1] != 3 or F.dtype.kind not in "iu":
+        raise InputError(f"F has shape {F.shape} and dtype {F.dtype}: expected (m, 3) integers")
+    if F.size and (F.min() < 0 or F.max() >= len(V)):
+        raise InputError(f"F indexes a vertex outside [0, {len(V)})")
+    corners = V[F]
+    angles = np.empty(F.shape, dtype=float)
+    for c in range(3):
+        a = corners[:, (c + 1) % 3] - corners[:, c]
+        b = corners[:, (c + 2) % 3] - corners[:, c]
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        angles[:, c] = np.degrees(np.arctan2(np.abs(cross), np.einsum("ij,ij->i", a, b)))
+    return angles
