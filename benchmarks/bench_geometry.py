@@ -14,32 +14,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from harness import Benchmark  # noqa: E402
 
+from meshsmith.datasets import icosphere  # noqa: E402  (20·4^s faces: 8 → 1,310,720)
 from meshsmith import geometry  # noqa: E402
-
-
-def icosphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
-    """Unit icosphere: 20·4^subdivisions faces (8 → 1,310,720)."""
-    t = (1.0 + 5.0 ** 0.5) / 2.0
-    V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
-    F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-                  [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-                  [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int64)
-    V /= np.linalg.norm(V, axis=1, keepdims=True)
-    for _ in range(subdivisions):
-        edges = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-        keys = edges[:, 0] * len(V) + edges[:, 1]
-        unique, inverse = np.unique(keys, return_inverse=True)
-        middle = V[unique // len(V)] + V[unique % len(V)]
-        middle /= np.linalg.norm(middle, axis=1, keepdims=True)
-        m = len(F)
-        inverse = inverse.reshape(-1) + len(V)
-        ab, bc, ca = inverse[:m], inverse[m:2 * m], inverse[2 * m:]
-        V = np.vstack([V, middle])
-        a, b, c = F.T
-        F = np.concatenate([np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1),
-                            np.stack([c, ca, bc], 1), np.stack([ab, bc, ca], 1)])
-    return V, F
 
 
 def main() -> None:

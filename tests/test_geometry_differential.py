@@ -15,6 +15,7 @@ import scipy.sparse.linalg
 import scipy.spatial
 import scipy.stats
 
+from meshsmith.datasets import icosphere
 import meshsmith
 from meshsmith import geometry
 
@@ -23,30 +24,6 @@ CLOSED_MESHES = ["bunny.off", "armadillo.obj", "fertility.off"]
 
 
 # --- procedural meshes ----------------------------------------------------------------------
-
-def icosphere(subdivisions: int, radius: float = 1.0):
-    """Icosahedron subdivided `subdivisions` times (midpoints pushed onto the sphere)."""
-    t = (1.0 + 5.0 ** 0.5) / 2.0
-    V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
-    F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-                  [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-                  [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]])
-    V /= np.linalg.norm(V, axis=1, keepdims=True)
-    for _ in range(subdivisions):
-        edges = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-        unique, inverse = np.unique(edges, axis=0, return_inverse=True)
-        inverse = inverse.reshape(-1)
-        middle = V[unique].mean(axis=1)
-        middle /= np.linalg.norm(middle, axis=1, keepdims=True)
-        m = len(F)
-        ab, bc, ca = len(V) + inverse[:m], len(V) + inverse[m:2 * m], len(V) + inverse[2 * m:]
-        V = np.vstack([V, middle])
-        a, b, c = F.T
-        F = np.concatenate([np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1),
-                            np.stack([c, ca, bc], 1), np.stack([ab, bc, ca], 1)])
-    return V * radius, F
-
 
 def torus(n_major: int, n_minor: int, R: float = 2.0, r: float = 1.0):
     """Regular torus grid; also returns each vertex's angles (phi around the axis, theta around the tube)."""

@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import pytest
 
+from meshsmith.datasets import icosphere
 import meshsmith
 from meshsmith import render as R
 
@@ -17,34 +18,6 @@ PIL = pytest.importorskip("PIL")
 
 
 # ---- test meshes ------------------------------------------------------------------------------
-
-def icosphere(level: int, radius: float = 1.0):
-    """Unit icosahedron subdivided `level` times, vertices pushed onto the sphere. (V, F)."""
-    t = (1.0 + 5 ** 0.5) / 2.0
-    V = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t),
-         (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    F = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
-         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
-         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-    V = [np.array(v, float) / np.linalg.norm(v) for v in V]
-    for _ in range(level):
-        midpoint = {}
-
-        def middle(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in midpoint:
-                m = V[a] + V[b]
-                V.append(m / np.linalg.norm(m))
-                midpoint[key] = len(V) - 1
-            return midpoint[key]
-
-        new_faces = []
-        for a, b, c in F:
-            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
-            new_faces += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        F = new_faces
-    return radius * np.array(V), np.array(F, dtype=np.int64)
-
 
 def grid(n: int, width: float = 2.0, height: float = 2.0):
     """An n×n-square grid in the z = 0 plane centred at the origin, normals +z. (V, F)."""
