@@ -444,6 +444,42 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     for (int k : edge_triangles[key]) count += alive[k];
     return count;
   };
+  // Sharp-edge pruning: an edge whose live candidates all lie within a wedge of less than π/2
+  // (two consecutive ones around it leave a gap of more than 3π/2) cannot be a smooth surface
+  // there; its candidates go (typically a triangle folded back across a flat tetrahedron).
+  // Edges with a single live candidate are left to the dangling-triangle removal below.
+  auto remove_sharp_edge_triangles = [&]() {
+    bool any = false;
+    for (auto& [key, around] : edge_triangles) {
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+      const Eigen::Vector3d pa = row3(P, a), axis = (row3(P, b) - pa).normalized();
+      std::vector<std::pair<double, int>> angles;
+      Eigen::Vector3d x_axis, y_axis;
+      for (int k : around) {
+        if (!alive[k]) continue;
+        const auto& g = candidates[k];
+        const int d = g[0] != a && g[0] != b ? g[0] : (g[1] != a && g[1] != b ? g[1] : g[2]);
+        Eigen::Vector3d u = row3(P, d) - pa;
+        u -= u.dot(axis) * axis;
+        if (angles.empty()) {
+          x_axis = u.normalized();
+          y_axis = axis.cross(x_axis);
+        }
+        angles.emplace_back(std::atan2(u.dot(y_axis), u.dot(x_axis)), k);
+      }
+      if (angles.size() < 2) continue;
+      std::sort(angles.begin(), angles.end());
+      double largest_gap = angles.front().first + 2.0 * 3.14159265358979323846 - angles.back().first;
+      for (std::size_t i = 0; i + 1 < angles.size(); ++i)
+        largest_gap = std::max(largest_gap, angles[i + 1].first - angles[i].first);
+      if (largest_gap <= 1.5 * 3.14159265358979323846) continue;
+      for (const auto& [angle, k] : angles) alive[k] = false;
+      any = true;
+    }
+    return any;
+  };
+  for (int round = 0; round < 3; ++round)
+    if (!remove_sharp_edge_triangles()) break;
   for (std::size_t k = 0; k < m; ++k) stack.push_back(static_cast<int>(k));
   while (!stack.empty()) {
     const int k = stack.back();
