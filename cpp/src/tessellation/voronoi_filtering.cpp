@@ -263,7 +263,7 @@ bool is_planar_loop(const Eigen::Ref<const Eigen::MatrixXd>& P, const std::vecto
 
 // Closes the holes of an oriented triangle set bounded by simple loops of at most `max_edges`
 // boundary edges, and of at most 4·max_edges edges when the loop is nearly planar (least
-// principal spread at most 0.35 of the largest), by cutting ears (shortest new edge first) that
+// principal spread at most 0.4 of the largest), by cutting ears (shortest new edge first) that
 // create no edge used twice.
 void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
                       std::vector<std::array<int, 3>>& triangles, int max_edges) {
@@ -299,7 +299,7 @@ void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
     }
     for (int u : loop) visited[u] = true;
     if (!simple || loop.size() < 3) continue;
-    if (static_cast<int>(loop.size()) > max_edges && !is_planar_loop(P, loop, 0.35)) continue;
+    if (static_cast<int>(loop.size()) > max_edges && !is_planar_loop(P, loop, 0.4)) continue;
     // Ear cutting. The fill triangles run against the loop's direction.
     while (loop.size() > 3) {
       int best = -1;
