@@ -282,10 +282,13 @@ def crust_3d(points, *, cocone_angle: float = np.pi / 8,
     Delaunay triangulation of the points, each point's pole (farthest Voronoi vertex of its cell)
     estimates its normal; a Delaunay triangle is kept when its dual Voronoi edge meets the cocone
     (the directions within `cocone_angle` of the plane orthogonal to the normal) at each corner.
-    Then a manifold is extracted: dangling triangles (a free edge, and an edge shared by more than
-    two candidates) are removed repeatedly, the outer surface of the rest is collected by a walk
-    that turns outwards across each edge and never puts a third triangle on an edge, and holes
-    bounded by simple loops of at most `max_hole_edges` edges are closed by ear cutting.
+    Then a manifold is extracted: sharp-edge pruning (candidates around an edge that all lie in a
+    wedge under pi/2 are removed: triangles folded across flat tetrahedra), dangling triangles (a
+    free edge, and an edge shared by more than two candidates) are removed repeatedly, the outer
+    surface of the rest is collected by a walk that turns outwards across each edge and never
+    uses a directed edge twice (consistent orientation), and holes bounded by simple loops of at
+    most `max_hole_edges` edges, or of at most 4 * `max_hole_edges` edges when nearly planar, are
+    closed by ear cutting.
     points: (n, 3) real array, n >= 4, not coplanar, no duplicates. cocone_angle: radians in
     (0, pi/2), default pi/8. max_hole_edges: >= 0 (0 leaves holes open), default 8.
     Returns (V, F): V the points (n, 3) float, F (m, 3) int64 triangles oriented outwards.

@@ -6,6 +6,7 @@
 
 #include "contouring_triangulations.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -243,10 +245,29 @@ bool meets_cocone(const Eigen::Vector3d& p, const Eigen::Vector3d& n, const Eige
   return !((c0 > sin_theta && c1 > sin_theta) || (c0 < -sin_theta && c1 < -sin_theta));
 }
 
+// Is the loop nearly planar: its points' spread along their least principal direction at most
+// `flatness` times that along their largest?
+bool is_planar_loop(const Eigen::Ref<const Eigen::MatrixXd>& P, const std::vector<int>& loop,
+                    double flatness) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int v : loop) mean += P.row(v).transpose();
+  mean /= static_cast<double>(loop.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int v : loop) {
+    const Eigen::Vector3d d = P.row(v).transpose() - mean;
+    scatter += d * d.transpose();
+  }
+  const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
+  return spread(2) > 0.0 && std::sqrt(std::max(spread(0), 0.0) / spread(2)) <= flatness;
+}
+
 // Closes the holes of an oriented triangle set bounded by simple loops of at most `max_edges`
-// boundary edges, by cutting ears (shortest new edge first) that create no edge used twice.
+// boundary edges, and of at most 4·max_edges edges when the loop is nearly planar (least
+// principal spread at most 0.4 of the largest), by cutting ears (shortest new edge first) that
+// create no edge used twice.
 void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
                       std::vector<std::array<int, 3>>& triangles, int max_edges) {
+  const int max_planar_edges = 4 * max_edges;
   std::map<std::uint64_t, int> edge_use;
   std::map<int, std::vector<int>> boundary_next;  // a -> b for boundary half-edges a→b
   for (const auto& f : triangles)
@@ -269,7 +290,7 @@ void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
       }
       v = it->second[0];
       if (v == start) break;
-      if (static_cast<int>(loop.size()) >= max_edges ||
+      if (static_cast<int>(loop.size()) >= max_planar_edges ||
           std::find(loop.begin(), loop.end(), v) != loop.end()) {
         simple = false;
         break;
@@ -278,6 +299,7 @@ void fill_small_holes(const Eigen::Ref<const Eigen::MatrixXd>& P,
     }
     for (int u : loop) visited[u] = true;
     if (!simple || loop.size() < 3) continue;
+    if (static_cast<int>(loop.size()) > max_edges && !is_planar_loop(P, loop, 0.4)) continue;
     // Ear cutting. The fill triangles run against the loop's direction.
     while (loop.size() > 3) {
       int best = -1;
@@ -422,6 +444,42 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     for (int k : edge_triangles[key]) count += alive[k];
     return count;
   };
+  // Sharp-edge pruning: an edge whose live candidates all lie within a wedge of less than π/2
+  // (two consecutive ones around it leave a gap of more than 3π/2) cannot be a smooth surface
+  // there; its candidates go (typically a triangle folded back across a flat tetrahedron).
+  // Edges with a single live candidate are left to the dangling-triangle removal below.
+  auto remove_sharp_edge_triangles = [&]() {
+    bool any = false;
+    for (auto& [key, around] : edge_triangles) {
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+      const Eigen::Vector3d pa = row3(P, a), axis = (row3(P, b) - pa).normalized();
+      std::vector<std::pair<double, int>> angles;
+      Eigen::Vector3d x_axis, y_axis;
+      for (int k : around) {
+        if (!alive[k]) continue;
+        const auto& g = candidates[k];
+        const int d = g[0] != a && g[0] != b ? g[0] : (g[1] != a && g[1] != b ? g[1] : g[2]);
+        Eigen::Vector3d u = row3(P, d) - pa;
+        u -= u.dot(axis) * axis;
+        if (angles.empty()) {
+          x_axis = u.normalized();
+          y_axis = axis.cross(x_axis);
+        }
+        angles.emplace_back(std::atan2(u.dot(y_axis), u.dot(x_axis)), k);
+      }
+      if (angles.size() < 2) continue;
+      std::sort(angles.begin(), angles.end());
+      double largest_gap = angles.front().first + 2.0 * 3.14159265358979323846 - angles.back().first;
+      for (std::size_t i = 0; i + 1 < angles.size(); ++i)
+        largest_gap = std::max(largest_gap, angles[i + 1].first - angles[i].first);
+      if (largest_gap <= 1.5 * 3.14159265358979323846) continue;
+      for (const auto& [angle, k] : angles) alive[k] = false;
+      any = true;
+    }
+    return any;
+  };
+  for (int round = 0; round < 3; ++round)
+    if (!remove_sharp_edge_triangles()) break;
   for (std::size_t k = 0; k < m; ++k) stack.push_back(static_cast<int>(k));
   while (!stack.empty()) {
     const int k = stack.back();
@@ -446,15 +504,21 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
   std::vector<std::array<int, 3>> oriented(m);
   std::vector<bool> taken(m, false), vertex_used(static_cast<std::size_t>(n), false);
   std::vector<int> chosen;
-  std::map<std::uint64_t, int> edge_use;  // chosen triangles per edge: never more than 2
+  // Directed half-edges a→b of the chosen triangles: each at most once, so an edge carries at
+  // most two chosen triangles, and two of them always in opposite directions (consistent
+  // orientation).
+  std::set<std::uint64_t> half_edges;
+  auto half_edge = [](int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+  };
   auto fits = [&](const std::array<int, 3>& f) {
     for (int j = 0; j < 3; ++j)
-      if (edge_use[edge_key(f[j], f[(j + 1) % 3])] >= 2) return false;
+      if (half_edges.count(half_edge(f[j], f[(j + 1) % 3]))) return false;
     return true;
   };
   auto take = [&](int k) {
     taken[k] = true;
-    for (int j = 0; j < 3; ++j) ++edge_use[edge_key(oriented[k][j], oriented[k][(j + 1) % 3])];
+    for (int j = 0; j < 3; ++j) half_edges.insert(half_edge(oriented[k][j], oriented[k][(j + 1) % 3]));
   };
   auto normal_of = [&](const std::array<int, 3>& f) {
     return Eigen::Vector3d((row3(P, f[1]) - row3(P, f[0])).cross(row3(P, f[2]) - row3(P, f[0])));

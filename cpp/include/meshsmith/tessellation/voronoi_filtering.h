@@ -49,7 +49,8 @@ struct CoconeOptions {
   /// (θ = π/8 in Amenta, Choi, Dey & Leekha 2002).
   double cocone_angle = 0.39269908169872414;
   /// Holes of the extracted surface bounded by simple loops of at most this many edges are
-  /// closed by ear cutting (0: leave every hole open).
+  /// closed by ear cutting, and so are nearly planar ones (least principal spread of the loop's
+  /// points at most 0.4 of the largest) of at most 4× this many edges (0: leave every hole open).
   int max_hole_edges = 8;
 };
 
@@ -59,15 +60,17 @@ struct CoconeOptions {
 /// of its cell (on the convex hull: the average outward normal of its hull faces), n_p = p+ - p
 /// estimates the normal; a Delaunay triangle is a candidate when its dual Voronoi edge meets the
 /// cocone {x : angle(x - p, ±n_p) >= π/2 - θ} of each of its three corners. Manifold extraction:
-/// dangling candidates (a free edge and an edge shared by more than two candidates) are removed
-/// repeatedly, then the outer surface of what remains is collected by a walk that, across each
-/// edge, takes the neighbour first reached when turning outwards and never puts a third triangle
-/// on an edge (one walk per connected surface, seeded at its extreme point in x); finally small
-/// holes (simple boundary loops of at most max_hole_edges edges) are closed by ear cutting; at a
+/// sharp-edge pruning (the candidates around an edge whose candidates all lie in a wedge of less
+/// than π/2, i.e. two consecutive ones leave a gap over 3π/2, are removed; up to 3 rounds: this
+/// removes triangles folded back across flat tetrahedra), then dangling candidates (a free edge
+/// and an edge shared by more than two candidates) are removed repeatedly, then the outer surface
+/// of what remains is collected by a walk that, across each edge, takes the neighbour first
+/// reached when turning outwards and never uses a directed edge twice (so at most two triangles
+/// per edge, consistently oriented; one walk per connected surface, seeded at its extreme point
+/// in x); finally small holes (see CoconeOptions::max_hole_edges) are closed by ear cutting; at a
 /// vertex where the triangles form several fans only the largest fan is kept (then small holes
 /// are closed again; up to 3 rounds).
-/// points: n×3. Returns (V = the points, F = #F×3 triangles, outward-oriented where the walk could
-/// orient them). Manifold and watertight when the sampling is dense and free of noise.
+/// points: n×3. Returns (V = the points, F = #F×3 triangles, consistently oriented, outwards). Manifold and watertight when the sampling is dense and free of noise.
 /// \pre n >= 4, finite, not coplanar, no two points equal.
 /// \throw InputError if a precondition fails.
 Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& points, const CoconeOptions& options = {});
