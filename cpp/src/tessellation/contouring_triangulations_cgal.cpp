@@ -39,14 +39,21 @@ using Delaunay3 = CGAL::Delaunay_triangulation_3<
     Kernel, CGAL::Triangulation_data_structure_3<
                 CGAL::Triangulation_vertex_base_with_info_3<int, Kernel>>>;
 
+// Which of the n input points are vertices of t (duplicates and hidden weighted points are not).
+template <typename AnyTriangulation>
+std::vector<bool> vertex_flags(const AnyTriangulation& t, Eigen::Index n) {
+  std::vector<bool> flags(static_cast<std::size_t>(n), false);
+  for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
+    flags[static_cast<std::size_t>(v->info())] = true;
+  return flags;
+}
+
 // Collects the finite simplices and the vertex flags of a 2D triangulation.
 template <typename Triangulation2>
 Triangulation collect_2d(const Triangulation2& t, Eigen::Index n) {
   Triangulation result;
   result.dimension = t.dimension();
-  result.is_vertex.assign(static_cast<std::size_t>(n), false);
-  for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
-    result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  result.is_vertex = vertex_flags(t, n);
   for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
     result.edges.emplace_back(e->first->vertex(t.cw(e->second))->info(),
                               e->first->vertex(t.ccw(e->second))->info());
@@ -63,9 +70,7 @@ template <typename Triangulation3>
 Triangulation collect_3d(const Triangulation3& t, Eigen::Index n) {
   Triangulation result;
   result.dimension = t.dimension();
-  result.is_vertex.assign(static_cast<std::size_t>(n), false);
-  for (auto v = t.finite_vertices_begin(); v != t.finite_vertices_end(); ++v)
-    result.is_vertex[static_cast<std::size_t>(v->info())] = true;
+  result.is_vertex = vertex_flags(t, n);
   for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
     result.edges.emplace_back(e->first->vertex(e->second)->info(), e->first->vertex(e->third)->info());
   if (t.dimension() < 3) return result;
