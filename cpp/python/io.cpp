@@ -11,6 +11,16 @@ namespace {
 using Int64Column = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>;
 using Int64Triangles = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+io::Format format_argument(const py::object& format);
+
+io::WriteOptions write_options(const py::object& format, bool binary, bool big_endian) {
+  io::WriteOptions options;
+  options.format = format_argument(format);
+  options.binary = binary;
+  options.big_endian = big_endian;
+  return options;
+}
+
 io::Format format_argument(const py::object& format) {
   if (format.is_none()) return io::Format::automatic;
   return io::format_from_name(py::str(format));
@@ -103,10 +113,7 @@ void bind_io(py::module_& m) {
     const bool polygons = !offsets.is_none();
     const Eigen::Index columns = polygons ? 1 : 3;
     io::PolygonMesh mesh;
-    io::WriteOptions options;
-    options.format = format_argument(format);
-    options.binary = binary;
-    options.big_endian = big_endian;
+    const io::WriteOptions options = write_options(format, binary, big_endian);
     mesh.V = VertexMatrix(map_vertices(as_real_matrix(V, "V", 3)));
     mesh.face_vertices = corner_indices(F, polygons ? "faces.indices" : "F", columns);
     if (polygons) {
@@ -151,10 +158,7 @@ void bind_io(py::module_& m) {
   m.def("write_points", [](const std::string& path, const py::object& P, const py::object& N,
                            const py::object& format, bool binary, bool big_endian) {
     io::PointCloud points;
-    io::WriteOptions options;
-    options.format = format_argument(format);
-    options.binary = binary;
-    options.big_endian = big_endian;
+    const io::WriteOptions options = write_options(format, binary, big_endian);
     points.P = VertexMatrix(map_vertices(as_real_matrix(P, "P", 3)));
     if (!N.is_none()) points.N = VertexMatrix(map_vertices(as_real_matrix(N, "N", 3)));
     py::gil_scoped_release release;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace meshsmith::points {
 
@@ -36,6 +37,33 @@ void check_k(int k, Eigen::Index available, const char* what) {
                      "]: " + what);
   }
 }
+
+/// Room for one query's `count` neighbour indices and squared distances: on the stack for the
+/// usual small k, on the heap beyond. Not copyable (the pointers address its own arrays).
+class NeighborBuffers {
+ public:
+  explicit NeighborBuffers(int count) {
+    if (count > kOnStack) {
+      indices_heap_.resize(count);
+      distances_heap_.resize(count);
+      indices = indices_heap_.data();
+      distances = distances_heap_.data();
+    }
+  }
+  NeighborBuffers(const NeighborBuffers&) = delete;
+  NeighborBuffers& operator=(const NeighborBuffers&) = delete;
+
+ private:
+  static constexpr int kOnStack = 65;
+  std::uint32_t indices_stack_[kOnStack];
+  double distances_stack_[kOnStack];
+  std::vector<std::uint32_t> indices_heap_;
+  std::vector<double> distances_heap_;
+
+ public:
+  std::uint32_t* indices = indices_stack_;
+  double* distances = distances_stack_;
+};
 
 }  // namespace
 
@@ -83,23 +111,12 @@ KnnResult KdTree::query(const VertexRef& Q, int k, const Progress& progress) con
   const Eigen::Index m = Q.rows();
   KnnResult result{NeighborIndexMatrix(m, k), NeighborDistanceMatrix(m, k)};
   parallel_for_with_progress(m, progress, "knn", [&](Eigen::Index q) {
-    std::uint32_t found[64];
-    double squared[64];
-    std::vector<std::uint32_t> found_heap;
-    std::vector<double> squared_heap;
-    std::uint32_t* indices = found;
-    double* distances = squared;
-    if (k > 64) {
-      found_heap.resize(k);
-      squared_heap.resize(k);
-      indices = found_heap.data();
-      distances = squared_heap.data();
-    }
+    NeighborBuffers found(k);
     const double point[3] = {Q(q, 0), Q(q, 1), Q(q, 2)};
-    nearest(point, k, indices, distances);
+    nearest(point, k, found.indices, found.distances);
     for (int j = 0; j < k; ++j) {
-      result.indices(q, j) = indices[j];
-      result.distances(q, j) = std::sqrt(distances[j]);
+      result.indices(q, j) = found.indices[j];
+      result.distances(q, j) = std::sqrt(found.distances[j]);
     }
   });
   return result;
@@ -116,25 +133,14 @@ KnnResult KdTree::query_self(int k, const Progress& progress) const {
   const auto& order = leaf_order();
   parallel_for_with_progress(n, progress, "knn", [&](Eigen::Index t) {
     const std::uint32_t i = order[static_cast<std::size_t>(t)];
-    std::uint32_t found[65];
-    double squared[65];
-    std::vector<std::uint32_t> found_heap;
-    std::vector<double> squared_heap;
-    std::uint32_t* indices = found;
-    double* distances = squared;
-    if (wanted > 65) {
-      found_heap.resize(wanted);
-      squared_heap.resize(wanted);
-      indices = found_heap.data();
-      distances = squared_heap.data();
-    }
-    nearest(points.row(i).data(), wanted, indices, distances);
+    NeighborBuffers found(wanted);
+    nearest(points.row(i).data(), wanted, found.indices, found.distances);
     // Drop i itself; if more than k duplicates of i hide it, drop the farthest instead.
     int out = 0;
     for (int j = 0; j < wanted && out < k; ++j) {
-      if (indices[j] == i) continue;
-      result.indices(i, out) = indices[j];
-      result.distances(i, out) = std::sqrt(distances[j]);
+      if (found.indices[j] == i) continue;
+      result.indices(i, out) = found.indices[j];
+      result.distances(i, out) = std::sqrt(found.distances[j]);
       ++out;
     }
   });
