@@ -14,4 +14,9 @@ void bind_geometry_metrics(pybind11::module_& m);       // called by bind_geomet
 void bind_points(pybind11::module_& m);
 void bind_tessellation_delaunay(pybind11::module_& m);    // module.cpp calls both on "tessellation"
 void bind_tessellation_contouring(pybind11::module_& m);
+void bind_decimation_qem(pybind11::module_& m);           // module.cpp calls these three on "decimation"
+void bind_decimation_clustering(pybind11::module_& m);
+void bind_decimation_progressive(pybind11::module_& m);
+void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls both on "parametrization"
+void bind_parametrization_abf(pybind11::module_& m);
 }  // namespace meshsmith::python

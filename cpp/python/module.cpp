@@ -26,4 +26,11 @@ PYBIND11_MODULE(_core, m) {
   auto tessellation = m.def_submodule("tessellation");
   meshsmith::python::bind_tessellation_delaunay(tessellation);
   meshsmith::python::bind_tessellation_contouring(tessellation);
+  auto decimation = m.def_submodule("decimation");
+  meshsmith::python::bind_decimation_qem(decimation);
+  meshsmith::python::bind_decimation_clustering(decimation);
+  meshsmith::python::bind_decimation_progressive(decimation);
+  auto parametrization = m.def_submodule("parametrization");
+  meshsmith::python::bind_parametrization_maps(parametrization);
+  meshsmith::python::bind_parametrization_abf(parametrization);
 }
