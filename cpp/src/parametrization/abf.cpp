@@ -8,7 +8,8 @@
 #include <meshsmith/topology/components.h>
 #include <meshsmith/topology/manifold.h>
 
-#include <Eigen/CholmodSupport>
+#include "abf_cholesky.h"
+
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
@@ -252,6 +253,7 @@ class AbfSolver {
     if (ni_ > 0) {
       assemble_reduced(s, d, triangle_sum);
       if (!analyzed_) {
+        detail::use_nested_dissection(cholmod_);
         cholmod_.analyzePattern(reduced_);
         analyzed_ = true;
       }
@@ -382,7 +384,7 @@ class AbfSolver {
   Eigen::Index m_, ni_;
   Eigen::VectorXd beta_, weight_, hessian_, inverse_hessian_, alpha_, lambda_triangle_, lambda_vertex_;
   Eigen::SparseMatrix<double> reduced_;  // lower triangle of the reduced system
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod_;
+  detail::MeshCholesky cholmod_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_;
   bool analyzed_ = false;
 };

@@ -2,7 +2,8 @@
 
 #include <meshsmith/core/errors.h>
 
-#include <Eigen/CholmodSupport>
+#include "abf_cholesky.h"
+
 #include <Eigen/SparseCore>
 
 #include <cmath>
@@ -107,7 +108,9 @@ geometry::ParameterMatrix uv_from_angles(const FaceRef& F, Eigen::Index n_vertic
   const Eigen::SparseMatrix<double> At = A.transpose();
   const Eigen::SparseMatrix<double> normal = At * A;
   progress.report(0.3, "laying out the angles");
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> solver(normal);
+  detail::MeshCholesky solver;
+  detail::use_nested_dissection(solver);
+  solver.compute(normal);
   if (solver.info() != Eigen::Success) {
     throw SolverError("uv_from_angles: the normal equations are singular (is the mesh connected through its "
                       "edges?)");
