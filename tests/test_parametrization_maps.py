@@ -246,3 +246,141 @@ def test_harmonic_bad_input():
         P.harmonic(V, F, boundary=[[1, 2, 3]])
     with pytest.raises(meshsmith.InputError, match="shape"):
         P.map_boundary(V, F, shape="triangle")
+
+
+# --- stretch minimization ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("weights", ["mean_value", "uniform"])
+def test_stretch_minimizing_lowers_stretch(camelhead, hand, weights):
+    for V, F in (camelhead, hand):
+        start = P.harmonic(V, F, weights=weights)
+        result = P.stretch_minimizing(V, F, iterations=6, weights=weights)
+        start_stretch = geometry.triangle_distortion(V, F, start).normalized_global_stretch_l2
+        final = geometry.triangle_distortion(V, F, result.uv)
+        assert result.stretch[0] == pytest.approx(start_stretch, rel=1e-10)
+        assert final.normalized_global_stretch_l2 == pytest.approx(result.stretch[result.best_iteration], rel=1e-10)
+        assert final.normalized_global_stretch_l2 < 0.8 * start_stretch
+        assert result.best_iteration >= 1 and len(result.stretch) <= 7
+        assert P.is_bijective(result.uv, F)  # positive weights on a convex boundary stay bijective
+        # the boundary stays where the harmonic map put it
+        bnd, bnd_uv = P.map_boundary(V, F)
+        np.testing.assert_allclose(result.uv[bnd], bnd_uv, atol=1e-12)
+
+
+def test_stretch_minimizing_zero_iterations_and_bad_input():
+    V, F = datasets.disk(n_rings=6, n_segments=24)
+    result = P.stretch_minimizing(V, F, iterations=0)
+    np.testing.assert_allclose(result.uv, P.harmonic(V, F, weights="mean_value"), atol=1e-12)
+    assert len(result.stretch) == 1
+    with pytest.raises(meshsmith.InputError, match="iterations"):
+        P.stretch_minimizing(V, F, iterations=-1)
+    with pytest.raises(meshsmith.InputError, match="closed"):
+        P.stretch_minimizing(*datasets.icosphere(2))
+    calls = []
+    with pytest.raises(meshsmith.Cancelled):
+        P.stretch_minimizing(V, F, progress=lambda fraction, stage: calls.append(fraction) or False)
+    assert calls
+
+
+# --- LSCM -------------------------------------------------------------------------------------
+
+def test_lscm_matches_libigl(camelhead, hand):
+    for V, F in (camelhead, hand, datasets.noisy(*datasets.disk(), sigma=0.02)):
+        b, bc = P.default_lscm_pins(V, F)
+        expected, _ = igl.lscm(V, F.astype(np.int64), b, np.ascontiguousarray(bc))
+        np.testing.assert_allclose(P.lscm(V, F), expected, atol=1e-8)
+        bnd = igl.boundary_loop(F.astype(np.int64))
+        pins = np.array([bnd[0], bnd[len(bnd) // 2]])
+        pins_uv = np.array([[0.0, 0.0], [1.0, 0.0]])
+        expected, _ = igl.lscm(V, F.astype(np.int64), pins, pins_uv)
+        UV = P.lscm(V, F, pins, pins_uv)
+        np.testing.assert_allclose(UV, expected, atol=1e-8)
+        assert P.is_bijective(UV, F)
+    # default pins: boundary vertices far apart, at (0, 0) and (distance, 0)
+    V, F = camelhead
+    b, bc = P.default_lscm_pins(V, F)
+    bnd = igl.boundary_loop(F.astype(np.int64))
+    assert set(b) <= set(bnd)
+    assert bc[1, 0] == pytest.approx(np.linalg.norm(V[b[0]] - V[b[1]]))
+    diameter = max(np.linalg.norm(V[bnd] - V[v], axis=1).max() for v in bnd)
+    assert bc[1, 0] > 0.9 * diameter
+
+
+def test_lscm_reproduces_a_flat_conformal_map():
+    # A flat disk has a zero-energy map: itself. With two pins on it, LSCM returns it exactly.
+    V, F = datasets.noisy(*datasets.disk(n_rings=8, n_segments=30), sigma=0.0)
+    pins = np.array([1, 5])
+    UV = P.lscm(V, F, pins, V[pins, :2])
+    np.testing.assert_allclose(UV, V[:, :2], atol=1e-10)
+
+
+def _similarity_residual(A, B):
+    """Relative residual of the best complex-linear fit B ~ a A + b (a similarity, no reflection)."""
+    za, zb = A[:, 0] + 1j * A[:, 1], B[:, 0] + 1j * B[:, 1]
+    M = np.column_stack([za, np.ones_like(za)])
+    coef, *_ = np.linalg.lstsq(M, zb, rcond=None)
+    return np.linalg.norm(M @ coef - zb) / np.linalg.norm(zb - zb.mean())
+
+
+def test_lscm_spectral_matches_scipy_eigsh(camelhead, hand):
+    scipy_linalg = pytest.importorskip("scipy.sparse.linalg")
+    import scipy.sparse as sparse
+    for V, F in (camelhead, hand):
+        n = len(V)
+        # the same problem built from libigl's LSCM energy and boundary, solved by ARPACK
+        bnd = igl.boundary_loop(F.astype(np.int64))
+        _, Q = igl.lscm(V, F.astype(np.int64), bnd[:2], np.array([[0.0, 0.0], [1.0, 0.0]]))
+        mass = np.zeros(n)
+        lengths = np.linalg.norm(V[bnd] - V[np.roll(bnd, -1)], axis=1)
+        np.add.at(mass, bnd, 0.5 * lengths)
+        np.add.at(mass, np.roll(bnd, -1), 0.5 * lengths)
+        B = sparse.diags(np.concatenate([mass, mass])).tocsc()
+        values, vectors = scipy_linalg.eigsh(Q.tocsc(), k=4, M=B, sigma=-1e-6)
+        fiedler = vectors[:, np.argsort(values)[2]]
+        expected = np.column_stack([fiedler[:n], fiedler[n:]])
+        UV = P.lscm_spectral(V, F)
+        assert _similarity_residual(UV, expected) < 1e-6
+        assert P.is_bijective(UV, F)
+        d = geometry.triangle_distortion(V, F, UV)
+        assert d.parameter_areas.sum() == pytest.approx(d.surface_areas.sum(), rel=1e-9)
+
+
+def test_angle_distortion_lscm_below_tutte(camelhead, hand):
+    for V, F in (camelhead, hand):
+        conformal = {name: np.average(geometry.triangle_distortion(V, F, UV).conformal,
+                                      weights=geometry.face_areas(V, F))
+                     for name, UV in (("tutte", P.harmonic(V, F)), ("lscm", P.lscm(V, F)),
+                                      ("spectral", P.lscm_spectral(V, F)))}
+        assert conformal["lscm"] < conformal["tutte"] and conformal["spectral"] < conformal["tutte"]
+
+
+def test_lscm_bad_input():
+    V, F = datasets.disk(n_rings=4, n_segments=16)
+    bad_inputs = {
+        "closed": datasets.icosphere(2),
+        "connected components": (np.vstack([V, V + 3.0]), np.vstack([F, F + len(V)])),
+        "isolated vertex": (np.vstack([V, [[5.0, 5.0, 5.0]]]), F),
+        "zero area": (V, np.vstack([F, [[0, 1, 1]]])),
+        "non-manifold": (np.vstack([V, [[0.0, 0.0, 1.0]]]),
+                         np.vstack([F, [[F[0, 0], F[0, 1], len(V)]]])),
+        "not a topological disk": _annulus(),
+    }
+    for message, (Vb, Fb) in bad_inputs.items():
+        for function in (P.lscm, P.harmonic, P.stretch_minimizing):
+            with pytest.raises(meshsmith.InputError, match=message if message != "zero area" else "repeats|zero area"):
+                function(Vb, Fb)
+    with pytest.raises(meshsmith.InputError, match="closed"):
+        P.lscm_spectral(*datasets.icosphere(2))
+    with pytest.raises(meshsmith.InputError, match="at least two"):
+        P.lscm(V, F, [3], [[0.0, 0.0]])
+    with pytest.raises(meshsmith.InputError, match="same position"):
+        P.lscm(V, F, [3, 4], np.zeros((2, 2)))
+    with pytest.raises(meshsmith.InputError, match="both"):
+        P.lscm(V, F, [3, 4])
+    with pytest.raises(meshsmith.InputError, match="outside"):
+        P.lscm(V, F, [3, 4000], np.eye(2))
+    # an annulus is fine for LSCM with explicit pins (any surface with a boundary)
+    Va, Fa = _annulus()
+    bnd = topology.boundary_loops(Fa)[0]
+    UV = P.lscm(Va, Fa, [bnd[0], bnd[len(bnd) // 2]], np.eye(2))
+    assert P.is_bijective(UV, Fa)

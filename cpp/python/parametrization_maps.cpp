@@ -6,6 +6,8 @@
 #include <meshsmith/parametrization/boundary_map.h>
 #include <meshsmith/parametrization/cut_to_disk.h>
 #include <meshsmith/parametrization/harmonic.h>
+#include <meshsmith/parametrization/lscm.h>
+#include <meshsmith/parametrization/stretch.h>
 
 #include <pybind11/stl.h>
 
@@ -89,6 +91,39 @@ void bind_parametrization_maps(py::module_& m) {
     return to_numpy(without_gil([&] { return harmonic(mesh.V(), mesh.F(), map, w); }));
   }, py::arg("V"), py::arg("F"), py::arg("boundary") = py::none(), py::arg("boundary_uv") = py::none(),
      py::arg("weights") = "uniform", py::arg("shape") = "circle");
+
+  m.def("stretch_minimizing", [](const py::object& V, const py::object& F, int iterations, const std::string& weights,
+                                 const std::string& shape, const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    const StretchOptions options{iterations, parse_weights(weights), parse_shape(shape)};
+    Progress progress = make_progress(callback);
+    StretchResult result = without_gil([&] { return stretch_minimizing(mesh.V(), mesh.F(), options, progress); });
+    py::dict out;
+    out["uv"] = to_numpy(std::move(result.uv));
+    out["stretch"] = py::array_t<double>(static_cast<py::ssize_t>(result.stretch.size()), result.stretch.data());
+    out["best_iteration"] = result.best_iteration;
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("iterations") = 10, py::arg("weights") = "mean_value",
+     py::arg("shape") = "circle", py::arg("progress") = py::none());
+
+  m.def("lscm", [](const py::object& V, const py::object& F, const py::object& pinned, const py::object& pinned_uv) {
+    const MeshArguments mesh(V, F);
+    if (pinned.is_none() != pinned_uv.is_none()) throw InputError("give both pinned and pinned_uv, or neither");
+    if (pinned.is_none()) return to_numpy(without_gil([&] { return lscm(mesh.V(), mesh.F()); }));
+    const PinnedVertices pins{as_index_vector(pinned, "pinned"), as_parameters(pinned_uv, "pinned_uv")};
+    return to_numpy(without_gil([&] { return lscm(mesh.V(), mesh.F(), pins); }));
+  }, py::arg("V"), py::arg("F"), py::arg("pinned") = py::none(), py::arg("pinned_uv") = py::none());
+
+  m.def("default_lscm_pins", [](const py::object& V, const py::object& F) {
+    const MeshArguments mesh(V, F);
+    PinnedVertices pins = without_gil([&] { return default_lscm_pins(mesh.V(), mesh.F()); });
+    return py::make_tuple(vector_to_int64(pins.indices), to_numpy(std::move(pins.uv)));
+  }, py::arg("V"), py::arg("F"));
+
+  m.def("lscm_spectral", [](const py::object& V, const py::object& F) {
+    const MeshArguments mesh(V, F);
+    return to_numpy(without_gil([&] { return lscm_spectral(mesh.V(), mesh.F()); }));
+  }, py::arg("V"), py::arg("F"));
 
   m.def("cut_to_disk", [](const py::object& V, const py::object& F) {
     const MeshArguments mesh(V, F);

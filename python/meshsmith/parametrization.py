@@ -20,7 +20,8 @@ __all__: list[str] = []
 
 from dataclasses import dataclass  # noqa: E402
 
-__all__ += ["map_boundary", "harmonic", "CutMesh", "cut_to_disk", "BijectivityReport", "check_bijectivity",
+__all__ += ["map_boundary", "harmonic", "StretchResult", "stretch_minimizing", "lscm", "default_lscm_pins",
+            "lscm_spectral", "CutMesh", "cut_to_disk", "BijectivityReport", "check_bijectivity",
             "is_bijective"]
 
 
@@ -57,6 +58,75 @@ def harmonic(V, F, boundary=None, boundary_uv=None, weights: str = "uniform", *,
     the system is singular.
     """
     return _core.harmonic(V, F, boundary, boundary_uv, weights, shape)
+
+
+@dataclass(frozen=True)
+class StretchResult:
+    """The result of :func:`stretch_minimizing`.
+
+    uv: (n, 2) float64, the map of lowest stretch met; stretch: (k,) float64, Sander et al.'s
+    scale-invariant L2 stretch (1 for an isometry up to scale) of the harmonic start (entry 0)
+    and after every reweighting step; best_iteration: the index into `stretch` of `uv`.
+    """
+
+    uv: np.ndarray
+    stretch: np.ndarray
+    best_iteration: int
+
+
+def stretch_minimizing(V, F, iterations: int = 10, *, weights: str = "mean_value", shape: str = "circle",
+                       progress=None) -> StretchResult:
+    """Stretch-minimizing parametrization of a disk (§5.1.1; Yoshizawa, Belyaev & Seidel 2004).
+
+    Starts from :func:`harmonic` with `weights` on the `shape` boundary, then repeats: per-vertex
+    stretch s_i = area-weighted average of the triangle stretch sqrt((sigma1^2 + sigma2^2) / 2)
+    (:func:`meshsmith.geometry.triangle_distortion`), weights w_ij <- w_ij / ((s_i + s_j) / 2),
+    solve again. Stops after `iterations` steps or as soon as the stretch grows, and returns the
+    best map. Positive starting weights ("uniform", "mean_value") keep every map bijective.
+
+    V: (n, 3) float array, F: (m, 3) integer array (a topological disk); iterations >= 0;
+    progress: optional callback (fraction, stage) -> bool (False cancels).
+    Returns a :class:`StretchResult`. Raises InputError as :func:`harmonic`, or for iterations < 0.
+    """
+    return StretchResult(**_core.stretch_minimizing(V, F, iterations, weights, shape, progress))
+
+
+def lscm(V, F, pinned=None, pinned_uv=None) -> np.ndarray:
+    """Least-squares conformal map with pinned vertices (§5.1.2; Lévy et al. 2002).
+
+    Minimizes sum over triangles of A |grad v - R90 grad u|^2 (twice the conformal energy
+    Dirichlet - signed area) with a free boundary. Equal to ``igl.lscm(V, F, pinned, pinned_uv)``.
+
+    V: (n, 3) float array, F: (m, 3) integer array (connected, oriented manifold with a boundary).
+    pinned: (p,) p >= 2 vertex indices; pinned_uv: (p, 2) their positions (not all equal).
+    Default (both None; the mesh must then be a disk): the two boundary vertices farthest apart
+    (a double sweep on the longest loop) at (0, 0) and (their 3D distance, 0) — see
+    :func:`default_lscm_pins`.
+    Returns UV, (n, 2) float64, triangles counter-clockwise. Raises InputError for bad input
+    (closed: cut with :func:`cut_to_disk`; non-manifold, several components, isolated vertices,
+    zero-area faces, bad pins); SolverError if the system is singular.
+    """
+    return _core.lscm(V, F, pinned, pinned_uv)
+
+
+def default_lscm_pins(V, F) -> tuple[np.ndarray, np.ndarray]:
+    """The pins :func:`lscm` uses when none are given: (indices (2,) int64, uv (2, 2) float64)."""
+    return _core.default_lscm_pins(V, F)
+
+
+def lscm_spectral(V, F) -> np.ndarray:
+    """Spectral conformal parametrization: LSCM with a free boundary and no pins (Mullen et al. 2008).
+
+    The generalized eigenvector x of Q x = lambda B x (Q: the LSCM/conformal energy matrix,
+    B: lumped boundary lengths) with the smallest lambda once translations are removed, found
+    with Spectra's shift-invert Lanczos. Centred at the origin, scaled to the surface's area,
+    triangles counter-clockwise; unique up to a rotation.
+
+    V: (n, 3) float array, F: (m, 3) integer array (connected, oriented manifold with a boundary).
+    Returns UV, (n, 2) float64. Raises InputError as :func:`lscm`; SolverError if the
+    eigensolver fails.
+    """
+    return _core.lscm_spectral(V, F)
 
 
 @dataclass(frozen=True)
