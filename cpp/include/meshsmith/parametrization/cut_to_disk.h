@@ -1,0 +1,36 @@
+#pragma once
+/// \file cut_to_disk.h
+/// Cutting a closed or higher-genus surface open into a topological disk along a cut graph, so
+/// that every disk parametrization (harmonic, LSCM, ABF) runs on it (§5.2.2 step 2 "Surface
+/// cutting": grow a spanning tree of triangles across edges, then keep the edges the dual tree
+/// never crossed and prune their dangling branches; the 2g loops left, joined to the boundary,
+/// are the cut. Erickson & Whittlesey 2005, Gu, Gortler & Hoppe 2002 "Geometry images").
+#include <meshsmith/core/types.h>
+
+namespace meshsmith::parametrization {
+
+/// A mesh cut open along a seam. Vertices on the seam are duplicated: one copy per side.
+struct CutMesh {
+  VertexMatrix V;                ///< #Vc×3 positions; V.row(i) == input V.row(vertex_origin[i])
+  FaceMatrix F;                  ///< #F×3, face f uses the copies of the input face f's corners
+  Eigen::VectorXi vertex_origin; ///< #Vc: the input vertex each output vertex copies; the first
+                                 ///< #V entries are 0..#V-1 (every vertex keeps its index once,
+                                 ///< extra copies are appended in the order of their originals)
+  EdgeMatrix seam_edges;         ///< #C×2 input edges (i < j, lexicographic) that were cut open
+};
+
+/// Cuts (V, F) into one topological disk (one boundary loop, Euler characteristic 1).
+///  - A disk is returned unchanged (empty seam).
+///  - Otherwise faces are joined by a breadth-first spanning tree of the dual graph grown from
+///    face 0; the edges it does not cross (boundary edges included) form a graph whose vertices
+///    of degree one are pruned repeatedly. The interior edges that survive — the 2g handle loops
+///    and the paths joining the boundary loops — are the seam.
+///  - A closed genus-0 mesh prunes to nothing: it is cut along the shortest edge path between two
+///    far-apart vertices (the ends of a double sweep of Dijkstra's algorithm on edge lengths).
+/// V: #V×3, F: #F×3 triangles.
+/// \pre a clean, connected, oriented 2-manifold: no repeated-index or zero-area face, no unused
+///      vertex (the checks of every parametrization in this chapter).
+/// \throw InputError naming the first offending face, vertex or edge otherwise.
+CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F);
+
+}  // namespace meshsmith::parametrization

@@ -1,0 +1,229 @@
+#include <meshsmith/parametrization/cut_to_disk.h>
+
+#include <meshsmith/core/errors.h>
+#include <meshsmith/topology/boundary.h>
+#include <meshsmith/topology/characteristics.h>
+
+#include "input_checks.h"
+
+#include <algorithm>
+#include <deque>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <vector>
+
+namespace meshsmith::parametrization {
+
+namespace {
+
+using topology::EdgeIncidence;
+
+/// The edges at every vertex, as a compressed adjacency list.
+struct VertexEdges {
+  std::vector<int> offsets, edges;
+  VertexEdges(const EdgeIncidence& incidence) : offsets(incidence.n_vertices + 1, 0) {
+    for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+      ++offsets[incidence.edges(e, 0) + 1];
+      ++offsets[incidence.edges(e, 1) + 1];
+    }
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    edges.resize(offsets.back());
+    std::vector<int> fill(offsets.begin(), offsets.end() - 1);
+    for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+      edges[fill[incidence.edges(e, 0)]++] = static_cast<int>(e);
+      edges[fill[incidence.edges(e, 1)]++] = static_cast<int>(e);
+    }
+  }
+};
+
+int other_end(const EdgeIncidence& incidence, int e, int v) {
+  return incidence.edges(e, 0) == v ? incidence.edges(e, 1) : incidence.edges(e, 0);
+}
+
+/// Edges the breadth-first dual spanning tree from face 0 does not cross, pruned of dangling
+/// branches: the cut graph (boundary edges included).
+std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incidence, const VertexEdges& adjacency) {
+  const Eigen::Index n_faces = F.rows();
+  std::vector<char> keep(incidence.n_edges(), 1), reached(n_faces, 0);
+  std::deque<int> queue{0};
+  reached[0] = 1;
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop_front();
+    for (int k = 0; k < 3; ++k) {
+      const int e = incidence.side_edge[3 * f + k];
+      if (incidence.side_count(e) != 2) continue;
+      const int s0 = incidence.edge_sides[incidence.edge_offsets[e]];
+      const int s1 = incidence.edge_sides[incidence.edge_offsets[e] + 1];
+      const int g = (s0 / 3 == f) ? s1 / 3 : s0 / 3;
+      if (reached[g]) continue;
+      reached[g] = 1;
+      keep[e] = 0;  // the dual tree crosses e: the faces stay glued along it
+      queue.push_back(g);
+    }
+  }
+  std::vector<int> degree(incidence.n_vertices, 0);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (keep[e]) ++degree[incidence.edges(e, 0)], ++degree[incidence.edges(e, 1)];
+  }
+  std::vector<int> leaves;
+  for (Eigen::Index v = 0; v < incidence.n_vertices; ++v) {
+    if (degree[v] == 1) leaves.push_back(static_cast<int>(v));
+  }
+  while (!leaves.empty()) {
+    const int v = leaves.back();
+    leaves.pop_back();
+    if (degree[v] != 1) continue;
+    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+      const int e = adjacency.edges[k];
+      if (!keep[e]) continue;
+      keep[e] = 0;
+      degree[v] = 0;
+      const int w = other_end(incidence, e, v);
+      if (--degree[w] == 1) leaves.push_back(w);
+      break;
+    }
+  }
+  return keep;
+}
+
+/// Dijkstra on edge lengths from `source`; returns the distance and predecessor edge of each vertex.
+void shortest_paths(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency, int source,
+                    std::vector<double>& distance, std::vector<int>& via) {
+  distance.assign(incidence.n_vertices, std::numeric_limits<double>::infinity());
+  via.assign(incidence.n_vertices, -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  distance[source] = 0.0;
+  queue.emplace(0.0, source);
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+      const int e = adjacency.edges[k];
+      const int w = other_end(incidence, e, v);
+      const double candidate = d + (V.row(w) - V.row(v)).norm();
+      if (candidate < distance[w]) {
+        distance[w] = candidate;
+        via[w] = e;
+        queue.emplace(candidate, w);
+      }
+    }
+  }
+}
+
+/// The shortest edge path between two far-apart vertices (double Dijkstra sweep), as edge flags.
+std::vector<char> far_apart_path(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency) {
+  std::vector<double> distance;
+  std::vector<int> via;
+  auto farthest = [&] {
+    return static_cast<int>(std::max_element(distance.begin(), distance.end()) - distance.begin());
+  };
+  shortest_paths(V, incidence, adjacency, 0, distance, via);
+  const int a = farthest();
+  shortest_paths(V, incidence, adjacency, a, distance, via);
+  std::vector<char> cut(incidence.n_edges(), 0);
+  for (int v = farthest(); v != a;) {
+    cut[via[v]] = 1;
+    v = other_end(incidence, via[v], v);
+  }
+  return cut;
+}
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+/// The corner of face f at vertex v (3f + k).
+int corner_at(const FaceRef& F, int f, int v) {
+  for (int k = 0; k < 3; ++k) {
+    if (F(f, k) == v) return 3 * f + k;
+  }
+  return -1;
+}
+
+}  // namespace
+
+CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F) {
+  const auto checked = detail::check_mesh(V, F, detail::Requirement::any, "cut_to_disk");
+  const EdgeIncidence& incidence = checked.incidence;
+  const Eigen::Index n = V.rows(), m = F.rows();
+  CutMesh result;
+  if (checked.is_disk()) {
+    result.V = V;
+    result.F = F;
+    result.vertex_origin.setLinSpaced(n, 0, static_cast<int>(n - 1));
+    result.seam_edges.resize(0, 2);
+    return result;
+  }
+  const VertexEdges adjacency(incidence);
+  std::vector<char> cut = pruned_cut_graph(F, incidence, adjacency);
+  Eigen::Index n_cut = 0;
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (incidence.side_count(e) == 1) cut[e] = 0;  // boundary edges are open already
+    n_cut += cut[e];
+  }
+  if (n_cut == 0) cut = far_apart_path(V, incidence, adjacency);  // a closed sphere
+
+  // Corners stay together across every interior edge that is not cut; each group of corners
+  // around a vertex becomes one output vertex.
+  std::vector<int> parent(3 * m);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (cut[e] || incidence.side_count(e) != 2) continue;
+    const int f = incidence.edge_sides[incidence.edge_offsets[e]] / 3;
+    const int g = incidence.edge_sides[incidence.edge_offsets[e] + 1] / 3;
+    for (int end = 0; end < 2; ++end) {
+      const int v = incidence.edges(e, end);
+      const int a = find_root(parent, corner_at(F, f, v)), b = find_root(parent, corner_at(F, g, v));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // Number the groups: the group of a vertex's first corner keeps the vertex's index.
+  std::vector<int> group_vertex(3 * m, -1);
+  std::vector<char> taken(n, 0);
+  std::vector<int> origin(n);
+  std::iota(origin.begin(), origin.end(), 0);
+  for (int c = 0; c < 3 * m; ++c) {
+    const int root = find_root(parent, c), v = F(c / 3, c % 3);
+    if (group_vertex[root] < 0 && !taken[v]) group_vertex[root] = v, taken[v] = 1;
+  }
+  std::vector<std::pair<int, int>> extra;  // (original vertex, root), appended in vertex order
+  for (int c = 0; c < 3 * m; ++c) {
+    const int root = find_root(parent, c);
+    if (group_vertex[root] == -1) {
+      group_vertex[root] = -2;  // listed
+      extra.emplace_back(F(c / 3, c % 3), root);
+    }
+  }
+  std::stable_sort(extra.begin(), extra.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [v, root] : extra) {
+    group_vertex[root] = static_cast<int>(origin.size());
+    origin.push_back(v);
+  }
+  result.vertex_origin = Eigen::Map<const Eigen::VectorXi>(origin.data(), static_cast<Eigen::Index>(origin.size()));
+  result.V.resize(static_cast<Eigen::Index>(origin.size()), 3);
+  for (std::size_t i = 0; i < origin.size(); ++i) result.V.row(i) = V.row(origin[i]);
+  result.F.resize(m, 3);
+  for (int c = 0; c < 3 * m; ++c) result.F(c / 3, c % 3) = group_vertex[find_root(parent, c)];
+
+  std::vector<int> seam;
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (cut[e]) seam.push_back(static_cast<int>(e));
+  }
+  result.seam_edges.resize(static_cast<Eigen::Index>(seam.size()), 2);
+  for (std::size_t k = 0; k < seam.size(); ++k) result.seam_edges.row(k) = incidence.edges.row(seam[k]);
+
+  const auto loops = topology::boundary_loops(result.F);
+  if (loops.size() != 1 || topology::euler_characteristic(result.F) != 1) {
+    throw SolverError("cut_to_disk: the cut mesh is not a disk (" + std::to_string(loops.size()) +
+                      " boundary loops); please report this mesh");
+  }
+  return result;
+}
+
+}  // namespace meshsmith::parametrization

@@ -1,0 +1,41 @@
+#pragma once
+// Internal to the parametrization chapter (not installed API): the checks every map runs on its
+// input before it builds a linear system, so that bad input gives a clear InputError instead of
+// a singular matrix, a hang or silent garbage.
+#include <meshsmith/core/types.h>
+#include <meshsmith/topology/edge_incidence.h>
+
+#include <vector>
+
+namespace meshsmith::parametrization::detail {
+
+/// What the checks learned about a valid mesh, reused by the caller.
+struct CheckedMesh {
+  topology::EdgeIncidence incidence;
+  std::vector<std::vector<int>> boundary_loops;  ///< longest first (topology::boundary_loops)
+  long long euler_characteristic = 0;
+  bool is_disk() const { return boundary_loops.size() == 1 && euler_characteristic == 1; }
+};
+
+/// What the caller needs of the mesh beyond being a clean, connected, oriented 2-manifold.
+enum class Requirement {
+  any,           ///< closed or not, any genus (cut_to_disk)
+  has_boundary,  ///< at least one boundary loop (LSCM with user pins, spectral LSCM)
+  disk,          ///< exactly one boundary loop and χ = 1 (the default boundary / pins)
+};
+
+/// Checks (V, F) for parametrization: validate_mesh; no face with a repeated vertex or zero area
+/// (exactly: its corners are collinear); every vertex used by a face; manifold and oriented; one
+/// connected component; then `requirement`. `function` prefixes the messages.
+/// \throw InputError naming the first offending face, vertex or edge, or the topology found
+///        (and that cut_to_disk makes a disk of a closed or higher-genus mesh).
+CheckedMesh check_mesh(const VertexRef& V, const FaceRef& F, Requirement requirement,
+                       const char* function);
+
+/// Checks a list of distinct vertex indices in [0, n) (`what`: "boundary", "pinned") and their
+/// #b×2 finite positions.
+/// \throw InputError naming the offending entry.
+void check_constrained_vertices(const std::vector<int>& indices, const Eigen::Ref<const Eigen::MatrixX2d>& uv,
+                                Eigen::Index n, const char* what, const char* function);
+
+}  // namespace meshsmith::parametrization::detail
