@@ -1,15 +1,25 @@
 """ABF and ABF++ (§5.1.3): convergence, bijectivity, analytic truth on developable surfaces,
 ABF == ABF++, angle distortion against LSCM and Tutte, progress and cancellation, bad input.
 
-Convergence measured here (ABF++, tolerance 1e-8, residual = infinity-norm of the triangle,
-vertex and wheel conditions): camelhead 6 Newton iterations, hand_lowres 5, the hemisphere cap
-and the bumpy disk 4-5; every layout without a flipped triangle.
+Measured here (ABF++, tolerance 1e-8; residual = infinity-norm of the triangle, vertex and wheel
+conditions; angle distortion = RMS relative / mean absolute (rad) error of the UV angles against
+the 3D angles; LSCM and Tutte (uniform harmonic, circle boundary) from this chapter):
+
+    mesh                  faces  iterations  residual   ABF++          LSCM           Tutte
+    hemisphere cap         1024      3       8.9e-14   0.0212/0.0198  0.0214/0.0198  0.2600/0.1728
+    bumpy disk             1024      2       8.7e-10   0.0060/0.0053  0.0060/0.0054  0.3281/0.2308
+    camelhead             22704      6       3.7e-10   0.0447/0.0239  0.0465/0.0246  3.3176/0.4085
+    hand_lowres            1602      5       5.5e-10   0.2472/0.1632  0.2666/0.1819  0.5473/0.3140
+    bunny (cut_to_disk)    6966      5       1.1e-09   0.0683/0.0428  0.0735/0.0460  0.6736/0.3540
+    spot (cut_to_disk)     5856      4       1.3e-09   0.0696/0.0469  0.0716/0.0487  0.5544/0.3208
+    fertility (cut)        9000      4       9.8e-10   0.0403/0.0270  0.0658/0.0348  1.1150/0.6124
+
+No flipped triangle anywhere; all bijective except cut fertility, whose boundary overlaps itself
+(ABF guarantees local injectivity only).
 """
 import igl
 import numpy as np
 import pytest
-import scipy.sparse
-import scipy.sparse.linalg
 
 import meshsmith
 from meshsmith import datasets, io, parametrization
@@ -92,35 +102,14 @@ def cylinder_strip(n_around=24, n_along=10, radius=1.0, sweep=1.5 * np.pi, heigh
     return rolled, F, flat
 
 
-def tutte_map(V, F):
-    """Uniform-weight harmonic map onto the unit circle (Tutte's embedding), with scipy."""
-    n = len(V)
-    boundary = igl.boundary_loop(F)
-    circle = igl.map_vertices_to_circle(V, boundary)
-    A = igl.adjacency_matrix(F).astype(float)
-    L = scipy.sparse.diags(np.asarray(A.sum(1)).ravel()) - A
-    interior = np.setdiff1d(np.arange(n), boundary)
-    UV = np.zeros((n, 2))
-    UV[boundary] = circle
-    rhs = -L[interior][:, boundary] @ circle
-    UV[interior] = np.column_stack([scipy.sparse.linalg.spsolve(L[interior][:, interior].tocsc(), rhs[:, k])
-                                    for k in range(2)])
-    return UV
-
-
-def lscm_map(V, F):
-    boundary = igl.boundary_loop(F)
-    far = boundary[np.argmax(np.linalg.norm(V[boundary] - V[boundary[0]], axis=1))]
-    UV, _ = igl.lscm(V, F, np.array([boundary[0], far]), np.array([[0.0, 0.0], [1.0, 0.0]]))
-    return UV
-
-
-def mean_angle_error(V, F, UV):
-    """Mean |angle in UV - angle in 3D| over all corners (radians); reversed triangles count as such."""
+def angle_errors(V, F, UV):
+    """(RMS of (UV angle - 3D angle) / 3D angle, mean |UV angle - 3D angle|) over all corners:
+    the relative error is what ABF minimizes (against the 3D angles, not its rescaled targets)."""
     flipped = signed_areas(UV, F) < 0
     uv_angles = corner_angles(UV, F)
-    uv_angles[flipped] = -uv_angles[flipped]
-    return np.abs(uv_angles - corner_angles(V, F)).mean()
+    uv_angles[flipped] = -uv_angles[flipped]      # a reversed triangle counts as such
+    angles = corner_angles(V, F)
+    return np.sqrt((((uv_angles - angles) / angles) ** 2).mean()), np.abs(uv_angles - angles).mean()
 
 
 def shared(data_dir, name):
@@ -174,7 +163,7 @@ def test_a_tighter_tolerance_only_refines_the_optimum():
     # The energy of the converged angles is below that of any feasible angles we can make from
     # a layout: those of the LSCM map, for example.
     energy = lambda a: (((a - tight.optimal_angles) / tight.optimal_angles) ** 2).sum()  # noqa: E731
-    assert energy(tight.angles) < energy(corner_angles(lscm_map(V, F), F))
+    assert energy(tight.angles) < energy(corner_angles(parametrization.lscm(V, F), F))
 
 
 # ---------------------------------------------------------------- analytic truth
@@ -232,35 +221,43 @@ def test_uv_from_angles_lays_out_consistent_angles_exactly():
 
 # ---------------------------------------------------------------- distortion: ABF++ < LSCM < Tutte
 
-def _distortion_row(V, F):
-    abf_uv = parametrization.abf(V, F).uv
-    return [mean_angle_error(V, F, uv) for uv in (abf_uv, lscm_map(V, F), tutte_map(V, F))]
+def _distortion_table(V, F):
+    maps = {"abf++": parametrization.abf(V, F).uv, "lscm": parametrization.lscm(V, F),
+            "tutte": parametrization.harmonic(V, F, weights="uniform")}
+    return {name: angle_errors(V, F, uv) for name, uv in maps.items()}
+
+
+def _assert_abf_below_lscm_below_tutte(table):
+    for measure in range(2):
+        assert table["abf++"][measure] < table["lscm"][measure] < table["tutte"][measure]
 
 
 @pytest.mark.parametrize("make", [hemisphere_cap, bumpy_disk], ids=["hemisphere_cap", "bumpy_disk"])
 def test_angle_distortion_abf_below_lscm_below_tutte_procedural(make):
-    abf_error, lscm_error, tutte_error = _distortion_row(*make())
-    assert abf_error < lscm_error < tutte_error
+    _assert_abf_below_lscm_below_tutte(_distortion_table(*make()))
 
 
 @pytest.mark.parametrize("name", ["camelhead.off", "hand_lowres.obj"])
 def test_angle_distortion_abf_below_lscm_below_tutte_shared(data_dir, name):
-    abf_error, lscm_error, tutte_error = _distortion_row(*shared(data_dir, name))
-    assert abf_error < lscm_error < tutte_error
+    _assert_abf_below_lscm_below_tutte(_distortion_table(*shared(data_dir, name)))
 
 
 # ---------------------------------------------------------------- cut closed meshes
 
-@pytest.mark.parametrize("name", ["bunny.off", "spot.obj", "fertility.off"])
-def test_abf_plus_plus_on_cut_closed_meshes(data_dir, name):
-    if not hasattr(parametrization, "cut_to_disk"):
-        pytest.skip("parametrization.cut_to_disk is not on this branch yet")
+@pytest.mark.parametrize("name, bijective", [("bunny.off", True), ("spot.obj", True), ("fertility.off", False)])
+def test_abf_plus_plus_on_cut_closed_meshes(data_dir, name, bijective):
     V, F = shared(data_dir, name)
-    cut = parametrization.cut_to_disk(V, F)
-    Vc, Fc = cut[0], cut[1]
+    Vc, Fc, seam = parametrization.cut_to_disk(V, F)
+    assert len(seam.seam_edges) > 0
     result = parametrization.abf(Vc, Fc)
-    assert result.residual <= 1e-8
-    assert (signed_areas(result.uv, Fc) > 0).all()
+    assert result.residual <= 1e-8 and result.iterations <= 10
+    assert (signed_areas(result.uv, Fc) > 0).all()          # locally injective: no flipped triangle
+    report = parametrization.check_bijectivity(result.uv, Fc)
+    assert len(report.flipped_faces) == 0 and len(report.degenerate_faces) == 0
+    # ABF guarantees local injectivity only: fertility's long genus-4 seam overlaps itself.
+    assert report.bijective == bijective
+    assert bijective or len(report.crossing_boundary_sides) > 0
+    _assert_abf_below_lscm_below_tutte(_distortion_table(Vc, Fc))
 
 
 # ---------------------------------------------------------------- progress and cancellation
@@ -320,13 +317,13 @@ def test_non_manifold_input_is_rejected():
     V2 = np.vstack([V, V[1:] + [0.0, 0.0, 1.0]])
     shift = np.where(F == 0, 0, F + len(V) - 1)
     F2 = np.vstack([F, shift])
-    with pytest.raises(meshsmith.InputError, match="non-manifold: vertex 0"):
+    with pytest.raises(meshsmith.InputError, match="vertex 0 is non-manifold"):
         parametrization.abf(V2, F2)
     # A fin: a third triangle on an interior edge.
     a, b = F[0, 0], F[0, 1]
     V3 = np.vstack([V, [[0.0, 0.0, 1.0]]])
     F3 = np.vstack([F, [[a, b, len(V)]]])
-    with pytest.raises(meshsmith.InputError, match="non-manifold: edge"):
+    with pytest.raises(meshsmith.InputError, match=r"edge \(\d+, \d+\) has 3 incident faces \(non-manifold\)"):
         parametrization.abf(V3, F3)
 
 
@@ -341,7 +338,7 @@ def test_face_repeating_a_vertex_is_rejected():
     V, F = datasets.disk(4, 12)
     F2 = F.copy()
     F2[5, 2] = F2[5, 0]
-    with pytest.raises(meshsmith.InputError, match="face 5 .* repeats a vertex"):
+    with pytest.raises(meshsmith.InputError, match="face 5 repeats a vertex"):
         parametrization.abf(V, F2)
 
 
@@ -353,19 +350,23 @@ def test_inconsistent_orientation_is_rejected():
         parametrization.abf(V, F2)
 
 
-def test_zero_area_triangles_are_handled():
+def test_zero_area_triangles_are_rejected_and_needles_handled():
     V, F = bumpy_disk(8, 32)
     V = V.copy()
-    # Face 40 made collinear (its 3D angles 0, 0, π): its first corner moved between the others.
     v, a, b = F[40]
-    V[v] = 0.5 * (V[a] + V[b])
-    # Face 100 with two coincident corners (a zero-length edge).
-    V[F[100, 1]] = V[F[100, 0]]
-    degenerate = np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1) < 1e-15
-    assert degenerate.sum() >= 2
+    collapsed = V.copy()
+    collapsed[v] = collapsed[a]                   # face 40 (and its neighbour on v-a) lose their area
+    with pytest.raises(meshsmith.InputError, match=r"face \d+ has zero area"):
+        parametrization.abf(collapsed, F)
+    # Face 40 made a needle: its first corner moved to 1e-9 from the middle of its opposite side,
+    # so its 3D angles are ~1e-8, ~1e-8 and ~π.
+    side = (V[b] - V[a]) / np.linalg.norm(V[b] - V[a])
+    V[v] = 0.5 * (V[a] + V[b]) + 1e-9 * np.cross(side, [0.0, 0.0, 1.0])
+    needle = corner_angles(V, F)[40]
+    assert needle.min() < 1e-7
     result = parametrization.abf(V, F)
     assert result.residual <= 1e-8 and np.isfinite(result.uv).all()
-    assert (result.optimal_angles >= 1e-4).all() and (result.optimal_angles <= np.pi - 1e-4).all()
+    np.testing.assert_allclose(np.sort(result.optimal_angles[40])[:2], 1e-4)   # clamped β
     assert (signed_areas(result.uv, F) > 0).all()
 
 

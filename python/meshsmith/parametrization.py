@@ -250,7 +250,8 @@ def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: flo
     the UV area equals the surface area (a developable surface comes out isometric).
 
     V: (n, 3) float array. F: (m, 3) int array: one connected, manifold, oriented component with
-    one boundary loop, every vertex used (zero-area faces are handled: their beta are clamped).
+    one boundary loop, every vertex used, no zero-area face (needles are fine: their beta are
+    clamped to minimum_angle).
     method: "abf++" solves each Newton step through the reduced system of ABF++ (CHOLMOD on a
     2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU (the same
     iterates, much slower: for comparison). max_iterations bounds the Newton iterations;
@@ -262,7 +263,8 @@ def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: flo
 
     Returns an :class:`AbfResult`. Raises InputError for a closed mesh (cut it first with
     ``parametrization.cut_to_disk``), several boundary loops or components, a non-manifold or
-    non-oriented mesh, an unused vertex, a face repeating a vertex, or bad options; SolverError
+    non-oriented mesh, an unused vertex, a face repeating a vertex or of zero area, or bad
+    options; SolverError
     if the residual is still above tolerance after max_iterations (the message gives it).
     """
     result = _core.abf(V, F, method, int(max_iterations), float(tolerance), float(minimum_angle), progress)

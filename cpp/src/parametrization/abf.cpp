@@ -1,14 +1,10 @@
 #include <meshsmith/parametrization/abf.h>
 
 #include <meshsmith/core/errors.h>
-#include <meshsmith/core/validation.h>
 #include <meshsmith/parametrization/angle_reconstruction.h>
-#include <meshsmith/topology/boundary.h>
-#include <meshsmith/topology/characteristics.h>
-#include <meshsmith/topology/components.h>
-#include <meshsmith/topology/manifold.h>
 
 #include "abf_cholesky.h"
+#include "input_checks.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
@@ -39,63 +35,12 @@ struct Disk {
 };
 
 Disk check_disk(const VertexRef& V, const FaceRef& F) {
-  validate_mesh(V, F);
-  const Eigen::Index n = V.rows();
-  std::vector<char> used(n, 0);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    if (a == b || b == c || c == a) {
-      throw InputError("abf: face " + std::to_string(f) + " (" + std::to_string(a) + ", " + std::to_string(b) +
-                       ", " + std::to_string(c) + ") repeats a vertex: remove degenerate faces first");
-    }
-    used[a] = used[b] = used[c] = 1;
-  }
-  for (Eigen::Index v = 0; v < n; ++v) {
-    if (!used[v]) {
-      throw InputError("abf: vertex " + std::to_string(v) +
-                       " is used by no face (isolated): remove unreferenced vertices first");
-    }
-  }
-  const topology::EdgeIncidence incidence = topology::edge_incidence(F, n);
-  const EdgeMatrix bad_edges = topology::non_manifold_edges(incidence);
-  if (bad_edges.rows() > 0) {
-    throw InputError("abf: the mesh is non-manifold: edge (" + std::to_string(bad_edges(0, 0)) + ", " +
-                     std::to_string(bad_edges(0, 1)) + ") has more than two faces (" +
-                     std::to_string(bad_edges.rows()) + " such edges); ABF needs a manifold disk");
-  }
-  const std::vector<int> bad_vertices = topology::non_manifold_vertices(F, incidence);
-  if (!bad_vertices.empty()) {
-    throw InputError("abf: the mesh is non-manifold: vertex " + std::to_string(bad_vertices.front()) +
-                     " is a pinch where separate fans of faces meet (" + std::to_string(bad_vertices.size()) +
-                     " such vertices); split them with topology.split_non_manifold_vertices");
-  }
-  const topology::Components components = topology::connected_components(F, n);
-  if (components.count > 1) {
-    throw InputError("abf: the mesh has " + std::to_string(components.count) +
-                     " connected components; ABF flattens one disk: parametrize each component separately");
-  }
-  if (!topology::is_oriented(F, incidence)) {
-    throw InputError("abf: the faces are not consistently oriented (a neighbouring pair traverses its shared "
-                     "edge in the same direction); orient the mesh first");
-  }
-  std::vector<std::vector<int>> loops = topology::boundary_loops(F, incidence);
-  if (loops.empty()) {
-    throw InputError("abf: the mesh is closed (no boundary loop); ABF needs a disk: cut it first with "
-                     "parametrization.cut_to_disk");
-  }
-  const long long chi = topology::euler_characteristic(F, incidence);
-  if (loops.size() > 1 || chi != 1) {
-    std::ostringstream message;
-    message << "abf: the mesh is not a topological disk: " << loops.size() << " boundary loops, Euler "
-            << "characteristic " << chi << " (a disk has one loop and 1); cut it with "
-            << "parametrization.cut_to_disk or fill its holes first";
-    throw InputError(message.str());
-  }
+  detail::CheckedMesh mesh = detail::check_mesh(V, F, detail::Requirement::disk, "abf");
   Disk disk;
-  disk.boundary_loop = std::move(loops.front());
-  disk.interior_index.assign(n, 0);
+  disk.boundary_loop = std::move(mesh.boundary_loops.front());
+  disk.interior_index.assign(V.rows(), 0);
   for (int v : disk.boundary_loop) disk.interior_index[v] = -1;
-  for (Eigen::Index v = 0; v < n; ++v)
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (disk.interior_index[v] >= 0) disk.interior_index[v] = disk.n_interior++;
   return disk;
 }
@@ -117,6 +62,7 @@ void check_options(const AbfOptions& options) {
 // ------------------------------------------------------------------------------------------
 
 /// 3D corner angles, atan2(|e1 × e2|, e1 · e2): accurate for needles and near-flat corners.
+/// (check_mesh has ruled out zero-area faces, so no corner has a zero-length side.)
 AngleMatrix corner_angles(const VertexRef& V, const FaceRef& F) {
   AngleMatrix angles(F.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -125,7 +71,7 @@ AngleMatrix corner_angles(const VertexRef& V, const FaceRef& F) {
       const Eigen::Vector3d e1 = V.row(F(f, (k + 1) % 3)).transpose() - p;
       const Eigen::Vector3d e2 = V.row(F(f, (k + 2) % 3)).transpose() - p;
       const double cross = e1.cross(e2).norm(), dot = e1.dot(e2);
-      angles(f, k) = (cross == 0.0 && dot == 0.0) ? kPi / 3 : std::atan2(cross, dot);
+      angles(f, k) = std::atan2(cross, dot);
     }
   }
   return angles;

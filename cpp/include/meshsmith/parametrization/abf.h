@@ -30,7 +30,7 @@ struct AbfOptions {
   int max_iterations = 30;     ///< Newton iterations at most (≥ 1)
   double tolerance = 1e-8;     ///< stop when the constraint residual (∞-norm) is at most this
   /// The optimal angles β are clamped to [minimum_angle, π − minimum_angle] (radians), so that
-  /// zero-area and needle triangles get finite weights 1/β² and sin β > 0.
+  /// needle triangles get finite weights 1/β² and sin β > 0.
   double minimum_angle = 1e-4;
 };
 
@@ -66,10 +66,12 @@ struct AbfResult {
 /// V: #V×3 positions, F: #F×3 triangles. Progress is reported once per Newton iteration (stage
 /// "ABF++ Newton iteration k, residual r") and for the layout.
 /// \pre the mesh is a topological disk: one connected component, manifold, oriented, one
-///      boundary loop, every vertex used; faces may have zero area (their β are clamped).
-/// \throw InputError naming the problem: closed mesh (cut it first with cut_to_disk), several
-///        boundary loops or components, non-manifold or non-oriented, unreferenced vertex, a
-///        face with a repeated vertex, bad options.
+///      boundary loop, every vertex used, no face of zero area (needle faces are fine: their β
+///      are clamped to minimum_angle).
+/// \throw InputError naming the problem (parametrization's shared input checks): closed mesh
+///        (cut it first with cut_to_disk), several boundary loops or components, non-manifold
+///        or non-oriented, unreferenced vertex, a face with a repeated vertex or of zero area
+///        (its index), bad options.
 /// \throw SolverError if the residual is still above the tolerance after max_iterations (the
 ///        message gives it), or a factorization fails.
 /// \throw Cancelled if the progress callback asks to stop.
