@@ -2,7 +2,7 @@
 
 #include <meshsmith/core/errors.h>
 
-#include "abf_cholesky.h"
+#include "constrained_solve.h"
 
 #include <Eigen/SparseCore>
 
@@ -53,25 +53,20 @@ geometry::ParameterMatrix uv_from_angles(const FaceRef& F, Eigen::Index n_vertic
                                          const AnglePins& pins, const Progress& progress) {
   check_layout_input(F, n_vertices, angles, pins);
   progress.report(0.0, "laying out the angles");
-  // Unknowns: (x, y) of every vertex but the pins, columns 2j and 2j + 1 of the free vertex j.
-  std::vector<int> free_index(n_vertices, -1);
   std::vector<char> used(n_vertices, 0);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) used[F(f, k)] = 1;
-  Eigen::Index n_free = 0;
   for (Eigen::Index v = 0; v < n_vertices; ++v) {
     if (!used[v]) {
       throw InputError("uv_from_angles: vertex " + std::to_string(v) +
                        " is used by no face: its position would be undetermined");
     }
-    if (v != pins.vertices[0] && v != pins.vertices[1]) free_index[v] = static_cast<int>(n_free++);
   }
-  auto pinned_position = [&](int v) { return v == pins.vertices[0] ? pins.positions[0] : pins.positions[1]; };
-
-  // Two rows per face (real and imaginary part of the complex sine-law equation).
+  // Unknowns (x_v, y_v) at columns 2v, 2v + 1; two rows per face (real and imaginary part of the
+  // complex sine-law equation). Minimizing |A x|² with the pins fixed gives the normal equations
+  // (AᵀA)_FF x_F = −(AᵀA)_FP x_P.
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<size_t>(F.rows()) * 10);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * F.rows());
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     // c: the corner of largest sine (the sine-law ratio divides by it); a, b follow it.
     int c = 0;
@@ -88,47 +83,28 @@ geometry::ParameterMatrix uv_from_angles(const FaceRef& F, Eigen::Index n_vertic
         {cos_a - 1.0, -sin_a, -cos_a, sin_a, 1.0, 0.0},
         {sin_a, cos_a - 1.0, -sin_a, -cos_a, 0.0, 1.0},
     };
-    for (int row = 0; row < 2; ++row) {
-      const Eigen::Index r = 2 * f + row;
-      for (int corner = 0; corner < 3; ++corner) {
-        const int v = vertex[corner];
-        for (int axis = 0; axis < 2; ++axis) {
-          const double coefficient = coefficients[row][2 * corner + axis];
-          if (free_index[v] >= 0) {
-            entries.emplace_back(r, 2 * free_index[v] + axis, coefficient);
-          } else {
-            rhs[r] -= coefficient * pinned_position(v)[axis];
-          }
-        }
-      }
-    }
+    for (int row = 0; row < 2; ++row)
+      for (int corner = 0; corner < 3; ++corner)
+        for (int axis = 0; axis < 2; ++axis)
+          entries.emplace_back(2 * f + row, 2 * vertex[corner] + axis, coefficients[row][2 * corner + axis]);
   }
-  Eigen::SparseMatrix<double> A(2 * F.rows(), 2 * n_free);
+  Eigen::SparseMatrix<double> A(2 * F.rows(), 2 * n_vertices);
   A.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::SparseMatrix<double> At = A.transpose();
-  const Eigen::SparseMatrix<double> normal = At * A;
+  const Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(A.transpose()) * A;
   progress.report(0.3, "laying out the angles");
-  detail::MeshCholesky solver;
-  detail::use_nested_dissection(solver);
-  solver.compute(normal);
-  if (solver.info() != Eigen::Success) {
-    throw SolverError("uv_from_angles: the normal equations are singular (is the mesh connected through its "
-                      "edges?)");
-  }
-  const Eigen::VectorXd x = solver.solve(At * rhs);
-  if (solver.info() != Eigen::Success || !x.allFinite()) {
-    throw SolverError("uv_from_angles: the least-squares layout failed (CHOLMOD solve)");
-  }
-  geometry::ParameterMatrix uv(n_vertices, 2);
-  for (Eigen::Index v = 0; v < n_vertices; ++v) {
-    if (free_index[v] >= 0) {
-      uv.row(v) << x[2 * free_index[v]], x[2 * free_index[v] + 1];
-    } else {
-      uv.row(v) = pinned_position(static_cast<int>(v)).transpose();
+  std::vector<int> fixed;
+  Eigen::MatrixXd fixed_values(4, 1);
+  for (int p = 0; p < 2; ++p) {
+    for (int axis = 0; axis < 2; ++axis) {
+      fixed.push_back(2 * pins.vertices[p] + axis);
+      fixed_values(2 * p + axis, 0) = pins.positions[p][axis];
     }
   }
+  const Eigen::MatrixXd x = detail::solve_with_fixed(normal, fixed, fixed_values,
+                                                     detail::SystemKind::symmetric_positive_definite,
+                                                     "uv_from_angles");
   progress.report(1.0, "laying out the angles");
-  return uv;
+  return Eigen::Map<const geometry::ParameterMatrix>(x.data(), n_vertices, 2);
 }
 
 }  // namespace meshsmith::parametrization
