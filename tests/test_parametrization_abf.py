@@ -260,6 +260,17 @@ def test_abf_plus_plus_on_cut_closed_meshes(data_dir, name, bijective):
     _assert_abf_below_lscm_below_tutte(_distortion_table(Vc, Fc))
 
 
+@pytest.mark.parametrize("make", [lambda: hemisphere_cap(opening=0.95 * np.pi),
+                                  lambda: tuple(parametrization.cut_to_disk(*datasets.torus()))[:2]],
+                         ids=["sphere_with_small_hole", "cut_torus"])
+def test_abf_plus_plus_on_hard_procedural_disks(make):
+    V, F = make()
+    result = parametrization.abf(V, F)
+    assert result.residual <= 1e-8 and result.iterations <= 10
+    assert max(constraint_residuals(F, result.angles, len(V))) <= 1e-8
+    assert parametrization.is_bijective(result.uv, F)
+
+
 # ---------------------------------------------------------------- progress and cancellation
 
 def test_progress_reports_newton_iterations():
@@ -393,6 +404,15 @@ def test_bad_options_and_arrays():
         parametrization.abf(V[:, :2], F)
     with pytest.raises(meshsmith.InputError, match="not in \\(0, π\\)"):
         parametrization.uv_from_angles(F, np.zeros(F.shape))
+    angles = np.full(F.shape, np.pi / 3)
+    with pytest.raises(meshsmith.InputError, match="one row of three angles per face"):
+        parametrization.uv_from_angles(F, angles[1:])
+    with pytest.raises(meshsmith.InputError, match="two pins must be distinct"):
+        parametrization.uv_from_angles(F, angles, pinned=[3, 3])
+    with pytest.raises(meshsmith.InputError, match="pinned vertex 99 is outside"):
+        parametrization.uv_from_angles(F, angles, pinned=[0, 99])
+    with pytest.raises(meshsmith.InputError, match="vertex 31 is used by no face"):
+        parametrization.uv_from_angles(F, angles, n_vertices=len(V) + 1)
 
 
 def test_inputs_are_not_modified():
