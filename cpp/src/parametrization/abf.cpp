@@ -124,7 +124,7 @@ struct Corners {
 class AbfSolver {
  public:
   AbfSolver(const FaceRef& F, const Disk& disk, const AngleMatrix& beta, const AbfOptions& options)
-      : F_(F), disk_(disk), corners_{F, disk}, options_(options), m_(F.rows()), ni_(disk.n_interior) {
+      : corners_{F, disk}, options_(options), m_(F.rows()), ni_(disk.n_interior) {
     const Eigen::Index n_corners = 3 * m_;
     beta_ = Eigen::Map<const Eigen::VectorXd>(beta.data(), n_corners);
     weight_ = beta_.cwiseInverse().cwiseAbs2();
@@ -137,8 +137,8 @@ class AbfSolver {
 
   const Eigen::VectorXd& alpha() const { return alpha_; }
 
-  /// Fills the right-hand sides and the Hessian at the current (α, λ); returns the constraint
-  /// residual (∞-norm of the triangle, vertex and wheel conditions).
+  /// Fills the right-hand sides and the cotangents at the current (α, λ); returns the
+  /// constraint residual (∞-norm of the triangle, vertex and wheel conditions).
   double evaluate(NewtonSystem& system) const {
     const Eigen::Index n_corners = 3 * m_;
     system.cotangent.resize(n_corners);
@@ -323,8 +323,6 @@ class AbfSolver {
     reduced_.setFromTriplets(entries.begin(), entries.end());
   }
 
-  const FaceRef& F_;
-  const Disk& disk_;
   Corners corners_;
   const AbfOptions& options_;
   Eigen::Index m_, ni_;
