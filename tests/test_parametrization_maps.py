@@ -16,25 +16,27 @@ def _disk_topology(V, F):
     return info.n_boundary_loops == 1 and info.euler_characteristic == 1
 
 
+def _compact(V, F):
+    """(V, F) without the vertices F does not use."""
+    used = np.unique(F)
+    remap = np.full(len(V), -1)
+    remap[used] = np.arange(len(used))
+    return V[used], remap[F]
+
+
 def _annulus(n_rings=8, n_segments=48):
     """A flat disk with its innermost rings removed: two boundary loops."""
     V, F = datasets.disk(n_rings=n_rings, n_segments=n_segments)
     keep = np.linalg.norm(V[F].mean(axis=1)[:, :2], axis=1) > 0.35
     F = F[keep]
-    used = np.unique(F)
-    remap = np.full(len(V), -1)
-    remap[used] = np.arange(len(used))
-    return V[used], remap[F]
+    return _compact(V, F)
 
 
 def _sphere_cap(height):
     """The part of the unit icosphere with z < height (height > 0: more than a hemisphere)."""
     V, F = datasets.icosphere(4)
     F = F[(V[F][:, :, 2] < height).all(axis=1)]
-    used = np.unique(F)
-    remap = np.full(len(V), -1)
-    remap[used] = np.arange(len(used))
-    return V[used], remap[F]
+    return _compact(V, F)
 
 
 @pytest.fixture(scope="module")
@@ -63,10 +65,17 @@ def _check_cut(V, F, cut):
     assert info.n_boundary_edges == topology.info(V, F).n_boundary_edges + 2 * len(cut.seam_edges)
 
 
-@pytest.mark.parametrize("shape", ["torus", "sphere", "annulus", "disk"])
+def _holed_torus():
+    """A torus with two holes: genus 1 and two boundary loops."""
+    V, F = datasets.torus(n_major=32, n_minor=16)
+    F = F[~np.isin(F, [0, 200]).any(axis=1)]  # the fans of two vertices removed: two holes
+    return _compact(V, F)
+
+
+@pytest.mark.parametrize("shape", ["torus", "sphere", "annulus", "holed torus", "disk"])
 def test_cut_to_disk_procedural(shape):
     V, F = {"torus": lambda: datasets.torus(n_major=32, n_minor=16), "sphere": lambda: datasets.icosphere(3),
-            "annulus": _annulus, "disk": datasets.disk}[shape]()
+            "annulus": _annulus, "holed torus": _holed_torus, "disk": datasets.disk}[shape]()
     cut = P.cut_to_disk(V, F)
     _check_cut(V, F, cut)
     if shape == "disk":
@@ -141,6 +150,16 @@ def test_is_bijective_high_curvature_cap():
     V, F = _sphere_cap(0.5)
     report = P.check_bijectivity(V[:, :2], F)
     assert not report.bijective and len(report.flipped_faces) > 0
+
+
+def test_is_bijective_catches_a_double_cover():
+    # z -> z^2 wraps the disk twice around its centre: every triangle stays counter-clockwise
+    # (locally injective away from the centre), only the boundary, running round twice, tells.
+    V, F = datasets.disk(n_rings=6, n_segments=37)
+    z = (V[:, 0] + 1j * V[:, 1]) ** 2
+    report = P.check_bijectivity(np.column_stack([z.real, z.imag]), F)
+    assert report.orientation == 1 and len(report.flipped_faces) == 0
+    assert not report.bijective and len(report.crossing_boundary_sides) > 0
 
 
 def test_is_bijective_flip_touch_and_exactness():

@@ -7,6 +7,7 @@
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
     meshsmith triangulate IN.poly --min-angle 30 [--max-area A] -o OUT.obj [--picture P.png]
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT
+    meshsmith parametrize IN --method tutte|harmonic|stretch|lscm|abf|abf++ -o OUT.obj [--picture P.png]
     meshsmith demo [--out DIR] [--input FILE]
 
 Every command has --help. Bad input prints one line `meshsmith: error: ...` on stderr and exits
@@ -246,6 +247,36 @@ def command_crust(args) -> int:
     return 0
 
 
+def parametrization_picture(path, result, title: str) -> None:
+    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard."""
+    from . import render
+    corners = result.uv[result.F]  # per corner, so seams cut by cut_to_disk show in the texture
+    V, F = (result.cut.V, result.F) if result.cut is not None else (result.V, result.F)
+    layout = render.render_uv_layout(result.uv, result.F, size=(640, 640), scalar=result.distortion.vertex_conformal,
+                                     scalar_range=(1.0, 2.0), scalar_label="angle distortion σ1/σ2",
+                                     title=f"UV layout ({result.method})")
+    checker = float(np.ptp(result.uv, axis=0).max()) / 24
+    surface = render.render(V, F, uv=corners, checker_size=checker, size=(640, 640), title=title)
+    render._save_png(np.concatenate([layout, surface], axis=1), path)
+
+
+def command_parametrize(args) -> int:
+    from . import io, parametrization
+    if not args.output.lower().endswith(".obj"):
+        raise InputError(f"output {args.output}: texture coordinates are written as OBJ 'vt' lines; use a .obj file")
+    V, F = _read_mesh(args.input)
+    result = parametrization.parametrize(V, F, args.method, progress=ProgressBar())
+    # Positions stay those of the input; texture coordinates are per cut vertex (seams included).
+    io.write_mesh(args.output, V, F, UV=result.uv, F_uv=result.F)
+    if args.picture:
+        parametrization_picture(args.picture, result, f"{Path(args.input).name}: checkerboard through UV")
+    print(f"wrote {args.output}: {len(V)} vertices, {len(F)} faces, {len(result.uv)} texture coordinates"
+          + (f" (cut along {len(result.cut.seam_edges)} seam edges)" if result.cut is not None else ""))
+    for key, value in result.summary().items():
+        print(f"  {key:40s} {value:.4f}" if isinstance(value, float) else f"  {key:40s} {value}")
+    return 0
+
+
 def command_demo(args) -> int:
     from . import demo
     report = demo.run_demo(Path(args.out), input_path=args.input, progress=ProgressBar())
@@ -344,6 +375,19 @@ def build_parser() -> argparse.ArgumentParser:
     power.add_argument("input", help="text file of 'x y w' lines")
     power.add_argument("-o", "--output", required=True, help="output PNG")
     power.set_defaults(run=command_power)
+
+    from .parametrization import PARAMETRIZATION_METHODS
+    parametrize = commands.add_parser(
+        "parametrize", help="flatten a mesh: write texture coordinates (OBJ vt)",
+        description="Parametrization (§5.1): " + "; ".join(f"{name}: {what}" for name, what in
+                                                           PARAMETRIZATION_METHODS.items())
+        + ". A mesh that is not a disk is cut with a spanning-tree cut graph first. Prints the distortion.")
+    parametrize.add_argument("input", help="mesh file (.obj, .ply, .off, .stl)")
+    parametrize.add_argument("--method", choices=list(PARAMETRIZATION_METHODS), default="lscm",
+                             help="default: lscm")
+    parametrize.add_argument("-o", "--output", required=True, help="output .obj with vt texture coordinates")
+    parametrize.add_argument("--picture", help="also write a PNG: the UV layout and the surface under a checkerboard")
+    parametrize.set_defaults(run=command_parametrize)
 
     demo = commands.add_parser("demo", help="run the whole pipeline and write an HTML report",
                                description="Run every stage of meshsmith on a built-in shape (or --input) "

@@ -155,7 +155,29 @@ def stage_crust(context: DemoContext) -> Section:
                    [("crust_2d.png", "2D crust"), ("crust_3d.png", "3D Cocone crust")])
 
 
-STAGES = [stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust]
+def stage_parametrization(context: DemoContext) -> Section:
+    """§5.1: the input cut to a disk (§5.2.2) and flattened by Tutte's embedding, LSCM and the
+    stretch-minimizing map, with pictures and distortion."""
+    from .cli import parametrization_picture
+    from . import parametrization
+    figures, images = {}, []
+    for method in ("tutte", "lscm", "stretch"):
+        result = parametrization.parametrize(context.V, context.F, method)
+        name = f"parametrization_{method}.png"
+        parametrization_picture(context.out / name, result, f"checkerboard through the {method} map")
+        images.append((name, f"{parametrization.PARAMETRIZATION_METHODS[method]}: UV layout coloured by "
+                             "angle distortion, and the surface under a checkerboard"))
+        for key, value in result.summary().items():
+            if key != "method":
+                figures[f"{method}: {key}"] = value
+    context.figures["parametrization"] = figures
+    return Section("Parametrization", "meshsmith.parametrization (§5.1): the mesh is cut into a "
+                   "topological disk along a spanning-tree cut graph (§5.2.2, only if it is not one "
+                   "already), then flattened. Tutte's map is bijective but stretches; LSCM keeps angles; "
+                   "the stretch-minimizing map evens out the area.", figures, images)
+
+
+STAGES = [stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_parametrization]
 
 
 def run_demo(out: Path, input_path: str | None = None, progress=None) -> Path:

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 
 #include <cmath>
+#include <complex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -62,49 +63,38 @@ geometry::ParameterMatrix uv_from_angles(const FaceRef& F, Eigen::Index n_vertic
                        " is used by no face: its position would be undetermined");
     }
   }
-  // Unknowns (x_v, y_v) at columns 2v, 2v + 1; two rows per face (real and imaginary part of the
-  // complex sine-law equation). Minimizing |A x|² with the pins fixed gives the normal equations
-  // (AᵀA)_FF x_F = −(AᵀA)_FP x_P.
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<size_t>(F.rows()) * 10);
+  // Unknown z_v = u_v + i v_v at column v; one complex row per face, the sine-law equation
+  //   (z_c − z_a) − ρ e^{iα_a} (z_b − z_a) = 0,  ρ = sin α_b / sin α_c.
+  // Minimizing |A z|² with the pins fixed gives the Hermitian normal equations
+  // (AᴴA)_FF z_F = −(AᴴA)_FP z_P (the real 2n×2n system written as n×n complex, as LSCM's).
+  using Complex = std::complex<double>;
+  std::vector<Eigen::Triplet<Complex>> entries;
+  entries.reserve(static_cast<size_t>(F.rows()) * 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    // c: the corner of largest sine (the sine-law ratio divides by it); a, b follow it.
+    // c: the corner of largest sine (the ratio divides by it); a, b follow it.
     int c = 0;
     for (int k = 1; k < 3; ++k)
       if (std::sin(angles(f, k)) > std::sin(angles(f, c))) c = k;
     const int a = (c + 1) % 3, b = (c + 2) % 3;
-    const double ratio = std::sin(angles(f, b)) / std::sin(angles(f, c));
-    const double cos_a = ratio * std::cos(angles(f, a)), sin_a = ratio * std::sin(angles(f, a));
-    // x_c − x_a − [cos_a (x_b − x_a) − sin_a (y_b − y_a)] = 0
-    // y_c − y_a − [sin_a (x_b − x_a) + cos_a (y_b − y_a)] = 0
-    const int vertex[3] = {F(f, a), F(f, b), F(f, c)};
-    const double coefficients[2][6] = {
-        // (x_a, y_a, x_b, y_b, x_c, y_c)
-        {cos_a - 1.0, -sin_a, -cos_a, sin_a, 1.0, 0.0},
-        {sin_a, cos_a - 1.0, -sin_a, -cos_a, 0.0, 1.0},
-    };
-    for (int row = 0; row < 2; ++row)
-      for (int corner = 0; corner < 3; ++corner)
-        for (int axis = 0; axis < 2; ++axis)
-          entries.emplace_back(2 * f + row, 2 * vertex[corner] + axis, coefficients[row][2 * corner + axis]);
+    const Complex rotation = std::polar(std::sin(angles(f, b)) / std::sin(angles(f, c)), angles(f, a));
+    entries.emplace_back(f, F(f, a), rotation - 1.0);
+    entries.emplace_back(f, F(f, b), -rotation);
+    entries.emplace_back(f, F(f, c), 1.0);
   }
-  Eigen::SparseMatrix<double> A(2 * F.rows(), 2 * n_vertices);
+  Eigen::SparseMatrix<Complex> A(F.rows(), n_vertices);
   A.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::SparseMatrix<double> normal = Eigen::SparseMatrix<double>(A.transpose()) * A;
+  const Eigen::SparseMatrix<Complex> normal = Eigen::SparseMatrix<Complex>(A.adjoint()) * A;
   progress.report(0.3, "laying out the angles");
-  std::vector<int> fixed;
-  Eigen::MatrixXd fixed_values(4, 1);
-  for (int p = 0; p < 2; ++p) {
-    for (int axis = 0; axis < 2; ++axis) {
-      fixed.push_back(2 * pins.vertices[p] + axis);
-      fixed_values(2 * p + axis, 0) = pins.positions[p][axis];
-    }
-  }
-  const Eigen::MatrixXd x = detail::solve_with_fixed(normal, fixed, fixed_values,
-                                                     detail::SystemKind::symmetric_positive_definite,
-                                                     "uv_from_angles");
+  const std::vector<int> fixed{pins.vertices[0], pins.vertices[1]};
+  Eigen::MatrixXcd fixed_values(2, 1);
+  for (int p = 0; p < 2; ++p) fixed_values(p, 0) = Complex(pins.positions[p].x(), pins.positions[p].y());
+  const Eigen::MatrixXcd z = detail::solve_with_fixed<Complex>(normal, fixed, fixed_values,
+                                                             detail::SystemKind::positive_definite, "uv_from_angles");
+  geometry::ParameterMatrix uv(n_vertices, 2);
+  uv.col(0) = z.col(0).real();
+  uv.col(1) = z.col(0).imag();
   progress.report(1.0, "laying out the angles");
-  return Eigen::Map<const geometry::ParameterMatrix>(x.data(), n_vertices, 2);
+  return uv;
 }
 
 }  // namespace meshsmith::parametrization

@@ -42,9 +42,41 @@ int other_end(const EdgeIncidence& incidence, int e, int v) {
   return incidence.edges(e, 0) == v ? incidence.edges(e, 1) : incidence.edges(e, 0);
 }
 
+/// Dijkstra on edge lengths from the `sources` (all at distance 0); returns the distance and
+/// predecessor edge of each vertex.
+void shortest_paths(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency,
+                    const std::vector<int>& sources, std::vector<double>& distance, std::vector<int>& via) {
+  distance.assign(incidence.n_vertices, std::numeric_limits<double>::infinity());
+  via.assign(incidence.n_vertices, -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (const int source : sources) {
+    distance[source] = 0.0;
+    queue.emplace(0.0, source);
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
+      const int e = adjacency.edges[k];
+      const int w = other_end(incidence, e, v);
+      const double candidate = d + (V.row(w) - V.row(v)).norm();
+      if (candidate < distance[w]) {
+        distance[w] = candidate;
+        via[w] = e;
+        queue.emplace(candidate, w);
+      }
+    }
+  }
+}
+
 /// Edges the breadth-first dual spanning tree from face 0 does not cross, pruned of dangling
-/// branches: the cut graph (boundary edges included).
-std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incidence, const VertexEdges& adjacency) {
+/// branches: the cut graph (boundary edges included). The dual tree never crosses an edge of
+/// `primal_tree` (tree–cotree, Eppstein 2003; Erickson & Whittlesey 2005), so the loops left
+/// are each one edge closed by two shortest paths of the primal tree: short, straight seams.
+std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incidence, const VertexEdges& adjacency,
+                                   const std::vector<char>& primal_tree) {
   const Eigen::Index n_faces = F.rows();
   std::vector<char> keep(incidence.n_edges(), 1), reached(n_faces, 0);
   std::deque<int> queue{0};
@@ -54,7 +86,7 @@ std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incide
     queue.pop_front();
     for (int k = 0; k < 3; ++k) {
       const int e = incidence.side_edge[3 * f + k];
-      if (incidence.side_count(e) != 2) continue;
+      if (incidence.side_count(e) != 2 || primal_tree[e]) continue;
       const int s0 = incidence.edge_sides[incidence.edge_offsets[e]];
       const int s1 = incidence.edge_sides[incidence.edge_offsets[e] + 1];
       const int g = (s0 / 3 == f) ? s1 / 3 : s0 / 3;
@@ -63,6 +95,9 @@ std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incide
       keep[e] = 0;  // the dual tree crosses e: the faces stay glued along it
       queue.push_back(g);
     }
+  }
+  if (std::find(reached.begin(), reached.end(), 0) != reached.end()) {
+    throw SolverError("cut_to_disk: the dual spanning tree does not reach every face; please report this mesh");
   }
   std::vector<int> degree(incidence.n_vertices, 0);
   for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
@@ -89,32 +124,6 @@ std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incide
   return keep;
 }
 
-/// Dijkstra on edge lengths from `source`; returns the distance and predecessor edge of each vertex.
-void shortest_paths(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency, int source,
-                    std::vector<double>& distance, std::vector<int>& via) {
-  distance.assign(incidence.n_vertices, std::numeric_limits<double>::infinity());
-  via.assign(incidence.n_vertices, -1);
-  using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  distance[source] = 0.0;
-  queue.emplace(0.0, source);
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > distance[v]) continue;
-    for (int k = adjacency.offsets[v]; k < adjacency.offsets[v + 1]; ++k) {
-      const int e = adjacency.edges[k];
-      const int w = other_end(incidence, e, v);
-      const double candidate = d + (V.row(w) - V.row(v)).norm();
-      if (candidate < distance[w]) {
-        distance[w] = candidate;
-        via[w] = e;
-        queue.emplace(candidate, w);
-      }
-    }
-  }
-}
-
 /// The shortest edge path between two far-apart vertices (double Dijkstra sweep), as edge flags.
 std::vector<char> far_apart_path(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency) {
   std::vector<double> distance;
@@ -122,9 +131,9 @@ std::vector<char> far_apart_path(const VertexRef& V, const EdgeIncidence& incide
   auto farthest = [&] {
     return static_cast<int>(std::max_element(distance.begin(), distance.end()) - distance.begin());
   };
-  shortest_paths(V, incidence, adjacency, 0, distance, via);
+  shortest_paths(V, incidence, adjacency, {0}, distance, via);
   const int a = farthest();
-  shortest_paths(V, incidence, adjacency, a, distance, via);
+  shortest_paths(V, incidence, adjacency, {a}, distance, via);
   std::vector<char> cut(incidence.n_edges(), 0);
   for (int v = farthest(); v != a;) {
     cut[via[v]] = 1;
@@ -161,7 +170,20 @@ CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F) {
     return result;
   }
   const VertexEdges adjacency(incidence);
-  std::vector<char> cut = pruned_cut_graph(F, incidence, adjacency);
+  // The shortest-path tree (Dijkstra on edge lengths) from vertex 0, or on a mesh with boundary
+  // the forest grown from all boundary vertices at once, so that no two of its paths close a
+  // loop through the boundary (which would separate the faces), as edge flags.
+  std::vector<int> sources;
+  for (const auto& loop : checked.boundary_loops) sources.insert(sources.end(), loop.begin(), loop.end());
+  if (sources.empty()) sources.push_back(0);
+  std::vector<double> distance;
+  std::vector<int> via;
+  shortest_paths(V, incidence, adjacency, sources, distance, via);
+  std::vector<char> primal_tree(incidence.n_edges(), 0);
+  for (const int e : via) {
+    if (e >= 0) primal_tree[e] = 1;
+  }
+  std::vector<char> cut = pruned_cut_graph(F, incidence, adjacency, primal_tree);
   Eigen::Index n_cut = 0;
   for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
     if (incidence.side_count(e) == 1) cut[e] = 0;  // boundary edges are open already

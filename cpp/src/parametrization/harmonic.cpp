@@ -25,9 +25,9 @@ geometry::ParameterMatrix harmonic_from_laplacian(const Eigen::SparseMatrix<doub
   // for symmetric weights. The solver reads row i of −L from column i of its transpose.
   const Eigen::SparseMatrix<double> rows = symmetric ? Eigen::SparseMatrix<double>(-L)
                                                      : Eigen::SparseMatrix<double>(-L.transpose());
-  const Eigen::MatrixXd X = detail::solve_with_fixed(
-      rows, boundary.indices, boundary.uv,
-      symmetric ? detail::SystemKind::symmetric_positive_definite : detail::SystemKind::general, "harmonic");
+  const Eigen::MatrixXd X = detail::solve_with_fixed<double>(
+      rows, boundary.indices, Eigen::MatrixXd(boundary.uv),
+      symmetric ? detail::SystemKind::positive_definite : detail::SystemKind::general, "harmonic");
   return X;
 }
 

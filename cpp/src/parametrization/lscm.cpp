@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <limits>
 #include <cmath>
+#include <complex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -97,22 +98,36 @@ PinnedVertices pins_on_loop(const VertexRef& V, const std::vector<int>& loop) {
   return pins;
 }
 
-geometry::ParameterMatrix solve_pinned(const Sparse& Q, const PinnedVertices& pinned, Eigen::Index n) {
-  std::vector<int> fixed;
-  Eigen::MatrixXd values(2 * pinned.indices.size(), 1);
-  for (std::size_t k = 0; k < pinned.indices.size(); ++k) {
-    fixed.push_back(pinned.indices[k]);
-    values(k, 0) = pinned.uv(k, 0);
+/// The conformal energy as a Hermitian form in z = u + iv: z^H H z = xᵀQx, H = −L on the
+/// cotangent Laplacian's pattern plus ±i/2 on each boundary side i → j (H_ij += i/2,
+/// H_ji −= i/2, so that −(u_i v_j − u_j v_i) is reproduced). The pinned system in n complex
+/// unknowns has the fill of the scalar Laplacian, which makes its Cholesky factorization about
+/// twice as cheap as that of the 2n×2n real system with its 2×2 blocks.
+Eigen::SparseMatrix<std::complex<double>> hermitian_energy_matrix(const VertexRef& V, const FaceRef& F,
+                                                                  const std::vector<std::pair<int, int>>& sides) {
+  Eigen::SparseMatrix<std::complex<double>> H = (-geometry::cotan_laplacian(V, F)).cast<std::complex<double>>();
+  auto entry = [&H](int row, int column) -> std::complex<double>& {
+    const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[column];
+    const int* end = H.innerIndexPtr() + H.outerIndexPtr()[column + 1];
+    return H.valuePtr()[std::lower_bound(begin, end, row) - H.innerIndexPtr()];
+  };
+  for (const auto& [i, j] : sides) {
+    entry(i, j) += std::complex<double>(0.0, 0.5);
+    entry(j, i) -= std::complex<double>(0.0, 0.5);
   }
-  for (std::size_t k = 0; k < pinned.indices.size(); ++k) {
-    fixed.push_back(static_cast<int>(n + pinned.indices[k]));
-    values(pinned.indices.size() + k, 0) = pinned.uv(k, 1);
-  }
-  const Eigen::MatrixXd x =
-      detail::solve_with_fixed(Q, fixed, values, detail::SystemKind::symmetric_positive_definite, "lscm");
+  return H;
+}
+
+geometry::ParameterMatrix solve_pinned(const VertexRef& V, const FaceRef& F,
+                                       const std::vector<std::pair<int, int>>& sides, const PinnedVertices& pinned) {
+  const Eigen::Index n = V.rows();
+  Eigen::MatrixXcd values(pinned.indices.size(), 1);
+  for (std::size_t k = 0; k < pinned.indices.size(); ++k) values(k, 0) = {pinned.uv(k, 0), pinned.uv(k, 1)};
+  const Eigen::MatrixXcd z = detail::solve_with_fixed<std::complex<double>>(
+      hermitian_energy_matrix(V, F, sides), pinned.indices, values, detail::SystemKind::positive_definite, "lscm");
   geometry::ParameterMatrix uv(n, 2);
-  uv.col(0) = x.col(0).head(n);
-  uv.col(1) = x.col(0).tail(n);
+  uv.col(0) = z.col(0).real();
+  uv.col(1) = z.col(0).imag();
   return uv;
 }
 
@@ -170,13 +185,12 @@ PinnedVertices default_lscm_pins(const VertexRef& V, const FaceRef& F) {
 geometry::ParameterMatrix lscm(const VertexRef& V, const FaceRef& F, const PinnedVertices& pinned) {
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::has_boundary, "lscm");
   check_pins(pinned, V.rows());
-  return solve_pinned(energy_matrix(V, F, boundary_sides(F, mesh.incidence)), pinned, V.rows());
+  return solve_pinned(V, F, boundary_sides(F, mesh.incidence), pinned);
 }
 
 geometry::ParameterMatrix lscm(const VertexRef& V, const FaceRef& F) {
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::disk, "lscm");
-  return solve_pinned(energy_matrix(V, F, boundary_sides(F, mesh.incidence)),
-                      pins_on_loop(V, mesh.boundary_loops.front()), V.rows());
+  return solve_pinned(V, F, boundary_sides(F, mesh.incidence), pins_on_loop(V, mesh.boundary_loops.front()));
 }
 
 geometry::ParameterMatrix lscm_spectral(const VertexRef& V, const FaceRef& F) {

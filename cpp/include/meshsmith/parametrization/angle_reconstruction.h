@@ -20,8 +20,8 @@ struct AnglePins {
 /// Lays out triangles with the given angles in the plane: for each face (a, b, c) with the
 /// corner of largest sine at c, the sine law and the angle at a give
 ///   (u_c − u_a) = (sin α_b / sin α_c) · R(α_a) (u_b − u_a),
-/// R(θ) the counter-clockwise rotation; these 2 #F linear equations are solved in the least
-/// squares sense with the two pinned vertices fixed (normal equations, CHOLMOD). Angles that
+/// R(θ) the counter-clockwise rotation; these #F complex linear equations are solved in the
+/// least-squares sense with the two pinned vertices fixed (Hermitian normal equations, CHOLMOD). Angles that
 /// satisfy ABF's triangle, vertex and wheel conditions are reproduced exactly (up to round-off),
 /// with every triangle counter-clockwise; other angles give the least-squares compromise.
 ///

@@ -22,9 +22,11 @@ struct CutMesh {
 /// Cuts (V, F) into one topological disk (one boundary loop, Euler characteristic 1).
 ///  - A disk is returned unchanged (empty seam).
 ///  - Otherwise faces are joined by a breadth-first spanning tree of the dual graph grown from
-///    face 0; the edges it does not cross (boundary edges included) form a graph whose vertices
-///    of degree one are pruned repeatedly. The interior edges that survive — the 2g handle loops
-///    and the paths joining the boundary loops — are the seam.
+///    face 0 that never crosses an edge of the shortest-path tree (Dijkstra on edge lengths) from
+///    vertex 0 — from all boundary vertices at once on a mesh with boundary — (tree–cotree); the edges it does not cross (boundary edges included) form a graph
+///    whose vertices of degree one are pruned repeatedly. The interior edges that survive — the
+///    2g handle loops, each an edge closed by two shortest paths, and the paths joining the
+///    boundary loops — are the seam.
 ///  - A closed genus-0 mesh prunes to nothing: it is cut along the shortest edge path between two
 ///    far-apart vertices (the ends of a double sweep of Dijkstra's algorithm on edge lengths).
 /// V: #V×3, F: #F×3 triangles.
