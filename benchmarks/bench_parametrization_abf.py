@@ -1,8 +1,8 @@
 """ABF++ and plain ABF (§5.1.3): time, Newton iterations and final residual.
 
 Inputs: a ~100k-face hemisphere cap (datasets.disk(180, 560) wrapped onto the unit sphere, polar
-angle up to 0.45 π: curved, so the optimization has work to do) for ABF++, with libigl's LSCM on
-the same mesh for scale (no Python package offers ABF/ABF++ to compare against); a ~5k-face cap
+angle up to 0.45 π: curved, so the optimization has work to do) for ABF++, with this chapter's and
+libigl's LSCM on the same mesh for scale (no Python package offers ABF/ABF++ to compare against); a ~5k-face cap
 and, when ../shared/data is present, hand_lowres (1.6k faces) and camelhead (22.7k faces) for
 ABF++ against plain ABF (the full KKT system by sparse LU: same iterates, far slower, so it is
 run only on the meshes of at most 10k faces).
@@ -57,6 +57,7 @@ def main():
     print(f"\n{case}: {convergence_note(V, F, 'abf++')}")
     bench = Benchmark("parametrization_abf", case, repeats=3)
     bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, "abf++"))
+    bench.time("meshsmith lscm (for scale)", lambda: parametrization.lscm(V, F))
     if igl:
         boundary = igl.boundary_loop(F)
         pins = np.array([boundary[0], boundary[len(boundary) // 2]])
