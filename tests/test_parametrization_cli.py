@@ -71,15 +71,13 @@ def test_parametrize_closed_mesh_is_cut_and_pictured(torus_file, tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--method", "abf"], "abf"),
     (["--method", "lscm", "-o", "{tmp}/out.ply"], ".obj"),
+    (["--method", "abf++", "-o", "{tmp}/missing-folder/out.obj"], "missing-folder"),
 ])
 def test_parametrize_clean_errors(disk_file, tmp_path, args, message):
     args = [a.replace("{tmp}", str(tmp_path)) for a in args]
     if "-o" not in args:
         args += ["-o", str(tmp_path / "out.obj")]
-    if args[1] == "abf" and hasattr(P, "abf"):
-        pytest.skip("ABF is available in this build")
     result = run("parametrize", disk_file, *args)
     assert result.returncode == 1
     assert result.stderr.startswith("meshsmith: error:") and message in result.stderr

@@ -257,7 +257,7 @@ def parametrization_picture(path, result, title: str) -> None:
                                      title=f"UV layout ({result.method})")
     checker = float(np.ptp(result.uv, axis=0).max()) / 24
     surface = render.render(V, F, uv=corners, checker_size=checker, size=(640, 640), title=title)
-    render._save_png(np.concatenate([layout, surface], axis=1), path)
+    render.save_png(np.concatenate([layout, surface], axis=1), path)
 
 
 def command_parametrize(args) -> int:

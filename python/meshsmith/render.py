@@ -265,7 +265,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
                            colorbar=(cmap, low, high, scalar_label, bar_width) if colorbar else None,
                            transparent=transparent)
     if path is not None:
-        _save_png(canvas, path)
+        save_png(canvas, path)
     return canvas
 
 
@@ -384,7 +384,7 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
         ImageDraw.Draw(image).text((width / 2, 22), title, fill=(40, 40, 48), font=_font(20), anchor="mm")
     canvas = np.asarray(image, dtype=np.uint8).copy()
     if path is not None:
-        _save_png(canvas, path)
+        save_png(canvas, path)
     return canvas
 
 
@@ -589,7 +589,10 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
                       fill=text_fill, font=label_font, anchor="ms")
 
 
-def _save_png(canvas: np.ndarray, path) -> None:
+def save_png(canvas: np.ndarray, path) -> None:
+    """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
+
+    Raises InputError when the folder does not exist."""
     Image, _, _ = _pillow()
     path = Path(path)
     if path.parent and not path.parent.exists():
