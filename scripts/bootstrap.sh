@@ -9,7 +9,8 @@ EXTRAS=${2:-viz}
 cd "$(dirname "$0")/.."
 
 DEBIAN_PACKAGES=(g++ make libeigen3-dev libopenmesh-dev libcgal-dev libgmp-dev libmpfr-dev
-                 libboost-dev libsuitesparse-dev libspectra-dev libtbb-dev libnanoflann-dev)
+                 libboost-dev libsuitesparse-dev libspectra-dev libtbb-dev libnanoflann-dev
+                 libopenblas0-pthread)  # optimized BLAS: CHOLMOD's supernodal factorization needs it
 # Open3D (a benchmark peer) needs libusb at run time.
 if [[ ",$EXTRAS," == *",bench,"* ]]; then DEBIAN_PACKAGES+=(libusb-1.0-0); fi
 missing=()

@@ -3,7 +3,7 @@
 #include <meshsmith/core/errors.h>
 #include <meshsmith/parametrization/angle_reconstruction.h>
 
-#include "abf_cholesky.h"
+#include "mesh_cholesky.h"
 #include "input_checks.h"
 
 #include <Eigen/Geometry>
@@ -199,7 +199,7 @@ class AbfSolver {
     if (ni_ > 0) {
       assemble_reduced(s, d, triangle_sum);
       if (!analyzed_) {
-        detail::use_nested_dissection(cholmod_);
+        detail::configure_cholesky(cholmod_, detail::CholeskyKind::abf_reduced);
         cholmod_.analyzePattern(reduced_);
         analyzed_ = true;
       }
@@ -328,7 +328,7 @@ class AbfSolver {
   Eigen::Index m_, ni_;
   Eigen::VectorXd beta_, weight_, hessian_, inverse_hessian_, alpha_, lambda_triangle_, lambda_vertex_;
   Eigen::SparseMatrix<double> reduced_;  // lower triangle of the reduced system
-  detail::MeshCholesky cholmod_;
+  detail::MeshCholesky<double> cholmod_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_;
   bool analyzed_ = false;
 };

@@ -1,4 +1,5 @@
 #include "constrained_solve.h"
+#include "mesh_cholesky.h"
 
 #include <meshsmith/core/errors.h>
 
@@ -66,9 +67,8 @@ Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> solve_with_fixed(
   }
   Dense solution;
   if (kind == SystemKind::positive_definite) {
-    Eigen::CholmodSimplicialLLT<Sparse, Eigen::Lower> solver;
-    solver.cholmod().nmethods = 1;
-    solver.cholmod().method[0].ordering = CHOLMOD_AMD;
+    MeshCholesky<Scalar> solver;
+    configure_cholesky(solver, CholeskyKind::vertex_laplacian);
     solver.compute(block);
     if (solver.info() != Eigen::Success) {
       throw SolverError(std::string(function) + ": CHOLMOD could not factorize the system (it is not positive "

@@ -12,9 +12,8 @@ namespace meshsmith::parametrization::detail {
 
 /// How the free block of the system is factorized.
 enum class SystemKind {
-  /// Q symmetric (real) or Hermitian (complex), Q_FF positive definite: CHOLMOD's simplicial
-  /// LLᵀ with AMD ordering (with the reference BLAS of Debian, the simplicial factorization is
-  /// about twice as fast as the supernodal one on these 2D-mesh matrices).
+  /// Q symmetric (real) or Hermitian (complex), Q_FF positive definite: CHOLMOD's
+  /// supernodal LLᵀ with AMD ordering (mesh_cholesky.h says why).
   positive_definite,
   general,  ///< Q non-symmetric (mean-value weights): sparse LU (real only)
 };
