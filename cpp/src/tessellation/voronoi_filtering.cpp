@@ -279,18 +279,16 @@ std::vector<Eigen::Vector3d> oriented_normals(const Eigen::Ref<const Eigen::Matr
   return normal;
 }
 
-// Triangulates holes of an oriented surface by dynamic programming over the boundary loop
-// (minimum-weight triangulation of a polygon in space: Barequet & Sharir 1995, Liepa 2003). A
-// triangle weighs its area (doubled when it is not a face of the Delaunay triangulation, so the
-// fill prefers restricted-Delaunay-like faces, which cross no other Delaunay face) plus 1/20 of
-// the sum of its squared edge lengths (among equal areas, as in a planar hole, fat triangles);
-// triangles whose orientation disagrees with the normals of two of their corners (inward) are
-// excluded unless nothing else closes the hole.
+// Triangulates holes of an oriented surface by dynamic programming over the boundary loop: the
+// minimum-area triangulation of a polygon in space (Barequet & Sharir 1995; Liepa 2003), among
+// triangles that do not face against the normals of two of their corners (inward) unless nothing
+// else closes the hole. (Measured against ear cutting and against weights that also prefer
+// Delaunay faces or fat triangles: pure area follows the source surfaces best, e.g. pmp-bunny's
+// flat base 0.70 mean spacings from the source instead of 0.94.)
 class HoleTriangulator {
  public:
-  HoleTriangulator(const Eigen::Ref<const Eigen::MatrixXd>& P, std::vector<Eigen::Vector3d> normal,
-                   const std::vector<DelaunayFace>& faces)
-      : P_(P), normal_(std::move(normal)), faces_(faces) {}
+  HoleTriangulator(const Eigen::Ref<const Eigen::MatrixXd>& P, std::vector<Eigen::Vector3d> normal)
+      : P_(P), normal_(std::move(normal)) {}
 
   std::vector<Eigen::Vector3d>& normals() { return normal_; }
 
@@ -317,19 +315,9 @@ class HoleTriangulator {
   }
 
  private:
-  bool is_delaunay_face(std::array<int, 3> corners) const {
-    std::sort(corners.begin(), corners.end());
-    const auto it = std::lower_bound(faces_.begin(), faces_.end(), corners,
-                                     [](const DelaunayFace& f, const std::array<int, 3>& c) { return f.corners < c; });
-    return it != faces_.end() && it->corners == corners;
-  }
-
   double weight(const std::array<int, 3>& f, bool allow_inward) const {
     if (!allow_inward && is_inward(f)) return std::numeric_limits<double>::infinity();
-    const double area = 0.5 * normal(f).norm();
-    double squared_edges = 0.0;
-    for (int j = 0; j < 3; ++j) squared_edges += (P_.row(f[j]) - P_.row(f[(j + 1) % 3])).squaredNorm();
-    return (is_delaunay_face(f) ? area : 2.0 * area) + 0.05 * squared_edges;
+    return 0.5 * normal(f).norm();
   }
 
   template <typename EdgeExists>
@@ -373,7 +361,6 @@ class HoleTriangulator {
 
   const Eigen::Ref<const Eigen::MatrixXd>& P_;
   std::vector<Eigen::Vector3d> normal_;
-  const std::vector<DelaunayFace>& faces_;
 };
 
 // Closes the holes of an oriented triangle set bounded by simple loops of at most `max_edges`
@@ -993,7 +980,7 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
   std::vector<std::array<int, 3>> triangles;
   for (int k : chosen) triangles.push_back(oriented[k]);
   progress.report(0.95, "crust_3d: repair");
-  HoleTriangulator hole_triangulator(P, oriented_normals(P, triangles, pole), faces);
+  HoleTriangulator hole_triangulator(P, oriented_normals(P, triangles, pole));
   fill_small_holes(P, triangles, options.max_hole_edges, hole_triangulator);
   for (int round = 0; round < 3 && remove_extra_fans(triangles); ++round)
     fill_small_holes(P, triangles, options.max_hole_edges, hole_triangulator);

@@ -68,10 +68,9 @@ struct CoconeOptions {
 /// of what remains is collected by a walk that, across each edge, takes the neighbour first
 /// reached when turning outwards and never uses a directed edge twice (so at most two triangles
 /// per edge, consistently oriented; one walk per connected surface, seeded at its extreme point
-/// in x). Repair: small holes (see CoconeOptions::max_hole_edges) are closed by a minimum-weight
-/// triangulation of the loop (dynamic programming; weight: area, doubled for a triangle that is
-/// not a Delaunay face, plus 1/20 of its squared edge lengths; no triangle facing against the
-/// pole normals of two corners when avoidable); at a vertex where the triangles form several fans
+/// in x). Repair: small holes (see CoconeOptions::max_hole_edges) are closed by the minimum-area
+/// triangulation of the loop (dynamic programming; no triangle facing against the pole normals
+/// of two corners when avoidable); at a vertex where the triangles form several fans
 /// only the largest fan is kept (then small holes are closed again; up to 3 rounds); each point
 /// left on no triangle is inserted into the triangle it projects into and the edges around it are
 /// flipped while that makes the triangles agree better with the corner normals (or as well, and
