@@ -232,7 +232,12 @@ def medial_axis(samples) -> tuple[np.ndarray, np.ndarray]:
 
     The Voronoi edges of the samples whose dual Delaunay edges are not crust edges: the Voronoi
     skeleton, which converges to the inner and outer medial axis as the sampling gets denser.
-    Unbounded Voronoi edges are left out.
+    Exactly the Voronoi edges between two Voronoi vertices are returned: the inner axis and the
+    bounded part of the outer axis (circumcentres of the Delaunay triangles between the curve and
+    the convex hull, far out for thin triangles on the hull). The
+    unbounded Voronoi rays, dual to the convex hull's edges that are not crust edges (the outer
+    axis's branches running to infinity), are left out; so are the rays dual to crust edges on
+    the hull, which cross the curve.
     samples: (n, 2) real array (as crust). Returns (vertices (k, 2) float, edges (e, 2) int64).
     Raises InputError as crust.
     """

@@ -529,6 +529,13 @@ class SurfaceEditor {
     index(flip.t1);
   }
 
+  /// Rebuilds the half-edge index after the triangles were replaced wholesale.
+  void reindex() {
+    owner_.clear();
+    for (std::size_t t = 0; t < triangles_.size(); ++t)
+      if (!is_removed(triangles_[t])) index(static_cast<int>(t));
+  }
+
   /// Drops the removed triangles.
   void compact() {
     triangles_.erase(std::remove_if(triangles_.begin(), triangles_.end(), is_removed), triangles_.end());
@@ -580,7 +587,8 @@ class SurfaceRepair {
     const std::size_t n = normal.size();
     std::vector<bool> used(n, false);
     for (const auto& f : triangles_)
-      for (int c : f) used[c] = true;
+      if (!SurfaceEditor::is_removed(f))
+        for (int c : f) used[c] = true;
     std::map<int, std::vector<int>> neighbours;  // missing sample → its Delaunay neighbours
     for (std::size_t v = 0; v < n; ++v)
       if (!used[v]) neighbours[static_cast<int>(v)];
@@ -591,7 +599,8 @@ class SurfaceRepair {
     }
     std::vector<std::vector<int>> star(n);
     for (std::size_t t = 0; t < triangles_.size(); ++t)
-      for (int c : triangles_[t]) star[c].push_back(static_cast<int>(t));
+      if (!SurfaceEditor::is_removed(triangles_[t]))
+        for (int c : triangles_[t]) star[c].push_back(static_cast<int>(t));
     std::vector<std::pair<int, int>> to_flip;
     std::vector<int> pending;
     for (const auto& [v, around] : neighbours) pending.push_back(v);
@@ -643,11 +652,18 @@ class SurfaceRepair {
   }
 
   /// Cuts out each inward triangle together with its three neighbours and re-triangulates the
-  /// hole without inward triangles (kept as it was when that is impossible, when the region is
-  /// not a disk bounded by a simple loop, or when a sample would be left out); up to 4 rounds.
-  void remove_folds() {
+  /// hole without inward triangles; when that fails (a pleat: the neighbours fold back over the
+  /// triangle), cuts out the stars of its corners instead, re-triangulates that hole and inserts
+  /// the corners again (insert_missing). Regions that are not disks bounded by a simple loop,
+  /// or whose hole has no outward triangulation, are kept as they were; up to 4 rounds.
+  void remove_folds(const std::vector<std::pair<int, int>>& delaunay_edges) {
+    int star_attempts = 0;  // each costs O(#triangles)
     for (int round = 0; round < 4; ++round) {
       bool any = false;
+      std::vector<std::vector<int>> star(holes_.normals().size());
+      for (std::size_t t = 0; t < triangles_.size(); ++t)
+        if (!SurfaceEditor::is_removed(triangles_[t]))
+          for (int c : triangles_[t]) star[c].push_back(static_cast<int>(t));
       const std::size_t count = triangles_.size();
       for (std::size_t t = 0; t < count; ++t) {
         const std::array<int, 3> f = triangles_[t];
@@ -657,7 +673,22 @@ class SurfaceRepair {
           const int other = editor_.owner(f[(j + 1) % 3], f[j]);
           if (other >= 0 && std::find(region.begin(), region.end(), other) == region.end()) region.push_back(other);
         }
-        any = refill(region) || any;
+        if (refill(region, false)) {
+          any = true;
+          continue;
+        }
+        region.clear();
+        bool current = true;  // the star lists still describe the triangles
+        for (int c : f)
+          for (int k : star[c]) {
+            const auto& g = triangles_[k];
+            current = current && std::find(g.begin(), g.end(), c) != g.end();
+            if (std::find(region.begin(), region.end(), k) == region.end()) region.push_back(k);
+          }
+        if (current && star_attempts < 32) {
+          ++star_attempts;
+          any = replace_stars(f, region, delaunay_edges) || any;
+        }
       }
       if (!any) break;
     }
@@ -674,9 +705,45 @@ class SurfaceRepair {
     return smallest;
   }
 
+  // Replaces `region`, the stars of the corners of `f`, by a triangulation of its boundary loop
+  // and inserts the corners again; kept only if every new triangle around the region's samples
+  // faces outwards and no edge there is longer than the longest edge of the region, else undone.
+  bool replace_stars(const std::array<int, 3>& f, const std::vector<int>& region,
+                     const std::vector<std::pair<int, int>>& delaunay_edges) {
+    const std::vector<std::array<int, 3>> snapshot = triangles_;
+    std::set<int> samples;
+    double longest = 0.0;
+    for (int t : region)
+      for (int j = 0; j < 3; ++j) {
+        samples.insert(triangles_[t][j]);
+        longest = std::max(longest, (P_.row(triangles_[t][j]) - P_.row(triangles_[t][(j + 1) % 3])).norm());
+      }
+    bool good = refill(region, true);
+    if (good) insert_missing(delaunay_edges);
+    std::set<int> on_surface;
+    for (std::size_t t = 0; good && t < triangles_.size(); ++t) {
+      const auto& g = triangles_[t];
+      if (SurfaceEditor::is_removed(g)) continue;
+      bool touches = false;
+      for (int c : g) touches = touches || samples.count(c) > 0;
+      if (!touches) continue;
+      for (int c : g) on_surface.insert(c);
+      good = !holes_.is_inward(g);
+      for (int j = 0; j < 3 && good; ++j)
+        good = (P_.row(g[j]) - P_.row(g[(j + 1) % 3])).norm() <= longest;
+    }
+    for (int c : f) good = good && on_surface.count(c) > 0;
+    if (!good) {
+      triangles_ = snapshot;
+      editor_.reindex();
+    }
+    return good;
+  }
+
   // Replaces the triangles of `region` by a triangulation of its boundary loop; false (and
-  // nothing changed) when that is not possible.
-  bool refill(const std::vector<int>& region) {
+  // nothing changed) when that is not possible. Samples inside the region are dropped when
+  // `drop_interior` (for insert_missing to put back), else the region is refused.
+  bool refill(const std::vector<int>& region, bool drop_interior) {
     auto in_region = [&](int t) { return std::find(region.begin(), region.end(), t) != region.end(); };
     std::map<int, int> next;  // hole loop: b → a for each boundary half-edge a→b of the region
     std::set<int> corners;
@@ -687,7 +754,7 @@ class SurfaceRepair {
         if (in_region(editor_.owner(b, a))) continue;
         if (!next.emplace(b, a).second) return false;  // the boundary touches itself
       }
-    if (next.size() != corners.size() || next.size() < 3) return false;  // an interior sample
+    if ((!drop_interior && next.size() != corners.size()) || next.size() < 3) return false;  // an interior sample
     std::vector<int> loop{next.begin()->first};
     while (loop.size() <= next.size()) {
       const auto it = next.find(loop.back());
@@ -986,7 +1053,7 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
     fill_small_holes(P, triangles, options.max_hole_edges, hole_triangulator);
   SurfaceRepair repair(P, triangles, hole_triangulator);
   repair.insert_missing(t.edges);
-  repair.remove_folds();
+  repair.remove_folds(t.edges);
   repair.compact();
   progress.report(1.0, "crust_3d");
 

@@ -21,8 +21,11 @@ EdgeMatrix crust(const Eigen::Ref<const Eigen::MatrixXd>& samples);
 /// Approximate medial axis of a curve sampled densely (§2.1.2): the part of the Voronoi diagram
 /// of the samples dual to the Delaunay edges that are not crust edges (the Voronoi edges that do
 /// not cross the curve). Its vertices are Voronoi vertices, which converge to the medial axis as
-/// the sampling gets denser (in 2D every Voronoi vertex does). Unbounded Voronoi edges (rays) are
-/// left out: the result is finite.
+/// the sampling gets denser (in 2D every Voronoi vertex does). Exactly the Voronoi edges between
+/// two Voronoi vertices are returned (the inner axis and the bounded part of the outer axis: the
+/// circumcentres of the triangles between the curve and the convex hull, far out for thin hull
+/// triangles); the unbounded rays dual to convex-hull edges
+/// (the outer axis's branches to infinity) are left out, so the result is finite.
 struct MedialAxis {
   Eigen::MatrixXd vertices;  ///< #MV×2 Voronoi vertices used by the edges
   EdgeMatrix edges;          ///< #ME×2 Voronoi edges into `vertices`
@@ -76,7 +79,9 @@ struct CoconeOptions {
 /// flipped while that makes the triangles agree better with the corner normals (or as well, and
 /// the two angles opposite the edge exceed π); an inward triangle (against the normals of two of
 /// its corners) is cut out with its three neighbours and the hole re-triangulated, when the
-/// region is a disk whose new triangulation faces outwards.
+/// region is a disk whose new triangulation faces outwards, else (a pleat) the stars of its
+/// corners are cut out, re-triangulated and the corners inserted again, kept only when all of
+/// that faces outwards with no longer edges (up to 32 such attempts).
 /// points: n×3. Returns (V = the points, F = #F×3 triangles, consistently oriented, outwards).
 /// Manifold and watertight when the sampling is dense and free of noise; every point is used
 /// when the surface is closed. progress: stages "delaunay" (35%), "crust_3d: poles", "cocone",
