@@ -571,8 +571,9 @@ double corner_angle(const Eigen::Ref<const Eigen::MatrixXd>& P, int a, int b, in
 }
 
 // Repairs of the extracted surface by local edits that keep it closed, manifold and
-// consistently oriented: samples on no triangle are inserted, and inward triangles (folds) are
-// cut out with their neighbours and the hole re-triangulated.
+// consistently oriented: samples on no triangle are inserted, and inward triangles (folds,
+// pleats) are cut out with their neighbours (or their corners' stars) and the hole
+// re-triangulated. Orientation tests use the pole normals signed by the extracted surface.
 class SurfaceRepair {
  public:
   SurfaceRepair(const Eigen::Ref<const Eigen::MatrixXd>& P, std::vector<std::array<int, 3>>& triangles,
@@ -654,7 +655,8 @@ class SurfaceRepair {
   /// Cuts out each inward triangle together with its three neighbours and re-triangulates the
   /// hole without inward triangles; when that fails (a pleat: the neighbours fold back over the
   /// triangle), cuts out the stars of its corners instead, re-triangulates that hole and inserts
-  /// the corners again (insert_missing). Regions that are not disks bounded by a simple loop,
+  /// the corners again (replace_stars: undone unless the result faces outwards; at most 32
+  /// such attempts, each O(#triangles)). Regions that are not disks bounded by a simple loop,
   /// or whose hole has no outward triangulation, are kept as they were; up to 4 rounds.
   void remove_folds(const std::vector<std::pair<int, int>>& delaunay_edges) {
     int star_attempts = 0;  // each costs O(#triangles)
