@@ -99,14 +99,16 @@ void bind_tessellation_contouring(py::module_& m) {
     return without_gil([&] { return tessellation::sampling_ratio(samples); });
   }, py::arg("samples"));
 
-  m.def("crust_3d", [](const py::object& points_in, double cocone_angle, int max_hole_edges) {
+  m.def("crust_3d", [](const py::object& points_in, double cocone_angle, int max_hole_edges,
+                       const py::object& callback) {
     const RowMatrix points = as_points(points_in, "points", false, true);
     tessellation::CoconeOptions options;
     options.cocone_angle = cocone_angle;
     options.max_hole_edges = max_hole_edges;
-    Mesh mesh = without_gil([&] { return tessellation::crust_3d(points, options); });
+    const Progress progress = make_progress(callback);
+    Mesh mesh = without_gil([&] { return tessellation::crust_3d(points, options, progress); });
     return py::make_tuple(to_numpy(std::move(mesh.V)), indices_to_numpy(mesh.F));
-  }, py::arg("points"), py::arg("cocone_angle"), py::arg("max_hole_edges"));
+  }, py::arg("points"), py::arg("cocone_angle"), py::arg("max_hole_edges"), py::arg("progress") = py::none());
 }
 
 }  // namespace meshsmith::python

@@ -238,7 +238,7 @@ def command_crust(args) -> int:
                            title=f"crust of {len(P)} samples: {len(edges)} edges")
         print(f"wrote {args.output}: {len(edges)} curve edges through {len(P)} samples")
         return 0
-    V, F = tessellation.crust_3d(P)
+    V, F = tessellation.crust_3d(P, progress=ProgressBar())
     if args.output.lower().endswith(".png"):
         render.render(V, F, args.output, title=f"Cocone crust of {len(P)} points")
     else:

@@ -232,7 +232,12 @@ def medial_axis(samples) -> tuple[np.ndarray, np.ndarray]:
 
     The Voronoi edges of the samples whose dual Delaunay edges are not crust edges: the Voronoi
     skeleton, which converges to the inner and outer medial axis as the sampling gets denser.
-    Unbounded Voronoi edges are left out.
+    Exactly the Voronoi edges between two Voronoi vertices are returned: the inner axis and the
+    bounded part of the outer axis (circumcentres of the Delaunay triangles between the curve and
+    the convex hull, far out for thin triangles on the hull). The
+    unbounded Voronoi rays, dual to the convex hull's edges that are not crust edges (the outer
+    axis's branches running to infinity), are left out; so are the rays dual to crust edges on
+    the hull, which cross the curve.
     samples: (n, 2) real array (as crust). Returns (vertices (k, 2) float, edges (e, 2) int64).
     Raises InputError as crust.
     """
@@ -275,7 +280,7 @@ def is_r_sample(samples, R: float) -> bool:
 
 
 def crust_3d(points, *, cocone_angle: float = np.pi / 8,
-             max_hole_edges: int = 8) -> tuple[np.ndarray, np.ndarray]:
+             max_hole_edges: int = 8, progress=None) -> tuple[np.ndarray, np.ndarray]:
     """Reconstruct a triangle mesh from points sampled on a closed surface: Cocone (§2.1.3, 3D).
 
     The Cocone refinement (Amenta, Choi, Dey & Leekha 2002) of the 3D crust with poles: on the
@@ -286,16 +291,22 @@ def crust_3d(points, *, cocone_angle: float = np.pi / 8,
     wedge under pi/2 are removed: triangles folded across flat tetrahedra), dangling triangles (a
     free edge, and an edge shared by more than two candidates) are removed repeatedly, the outer
     surface of the rest is collected by a walk that turns outwards across each edge and never
-    uses a directed edge twice (consistent orientation), and holes bounded by simple loops of at
-    most `max_hole_edges` edges, or of at most 4 * `max_hole_edges` edges when nearly planar, are
-    closed by ear cutting.
+    uses a directed edge twice (consistent orientation). Repair: holes bounded by simple loops of
+    at most `max_hole_edges` edges, or of at most 4 * `max_hole_edges` edges when nearly planar,
+    are closed by the minimum-area triangulation of the loop (avoiding triangles that face
+    against the pole normals); points left on no triangle are inserted and the
+    edges around them flipped towards the corner normals; inward triangles are cut out with
+    their neighbours and the hole re-triangulated.
     points: (n, 3) real array, n >= 4, not coplanar, no duplicates. cocone_angle: radians in
     (0, pi/2), default pi/8. max_hole_edges: >= 0 (0 leaves holes open), default 8.
+    progress: optional callback (fraction, stage) -> bool; returning False cancels.
     Returns (V, F): V the points (n, 3) float, F (m, 3) int64 triangles oriented outwards.
-    Manifold and watertight when the sampling is dense and free of noise.
-    Raises InputError if a precondition fails.
+    Manifold and watertight when the sampling is dense and free of noise. Samples needed
+    (measured on random uniform samples, seeds 0-5): a sphere from 8, the torus of radii 1 and
+    0.35 from 225 (about 2 samples per square minor radius); the result then keeps every point.
+    Raises InputError if a precondition fails; Cancelled if progress returns False.
     """
-    return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges))
+    return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges), progress)
 
 
 def triangle_angles(V, F) -> np.ndarray:

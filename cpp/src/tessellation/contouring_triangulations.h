@@ -2,6 +2,8 @@
 // Private to the contouring part of the tessellation chapter: the CGAL triangulations that the
 // power diagram and Voronoi filtering build on, behind plain Eigen types (CGAL types never leave
 // contouring_triangulations_cgal.cpp). Indices refer to the rows of the input point matrix.
+#include <meshsmith/core/progress.h>
+
 #include <Eigen/Core>
 
 #include <utility>
@@ -27,7 +29,10 @@ Triangulation regular_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P,
                                     const Eigen::Ref<const Eigen::VectorXd>& weights);
 
 /// Delaunay triangulation of the rows of P (n×2 or n×3): CGAL Delaunay_triangulation_2 / _3.
-/// Of coincident points only one is a vertex (is_vertex false for the others).
-Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P);
+/// Of coincident points only one is a vertex (is_vertex false for the others). In 3D the points
+/// are spatially sorted, then inserted one by one (each located from the previous one), reporting
+/// the inserted fraction to `progress` as stage "delaunay". \throw Cancelled from progress.
+Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P,
+                                     const Progress& progress = {});
 
 }  // namespace meshsmith::tessellation::detail

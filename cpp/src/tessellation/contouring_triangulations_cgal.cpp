@@ -9,6 +9,9 @@
 #include <CGAL/Regular_triangulation_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/spatial_sort.h>
+#include <CGAL/property_map.h>
 
 #include <utility>
 #include <vector>
@@ -106,7 +109,8 @@ Triangulation regular_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P,
   return collect_3d(t, n);
 }
 
-Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P) {
+Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P,
+                                     const Progress& progress) {
   const Eigen::Index n = P.rows();
   if (P.cols() == 2) {
     std::vector<std::pair<Kernel::Point_2, int>> points;
@@ -120,7 +124,20 @@ Triangulation delaunay_triangulation(const Eigen::Ref<const Eigen::MatrixXd>& P)
   points.reserve(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i)
     points.emplace_back(Kernel::Point_3(P(i, 0), P(i, 1), P(i, 2)), static_cast<int>(i));
-  Delaunay3 t(points.begin(), points.end());
+  // What the range constructor does (spatial sort, then insertion located from the last vertex),
+  // spelled out so that progress can be reported between insertions.
+  using PointFirst = CGAL::First_of_pair_property_map<std::pair<Kernel::Point_3, int>>;
+  CGAL::spatial_sort(points.begin(), points.end(),
+                     CGAL::Spatial_sort_traits_adapter_3<Kernel, PointFirst>(PointFirst()));
+  Delaunay3 t;
+  Delaunay3::Cell_handle hint;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::size_t before = t.number_of_vertices();
+    const Delaunay3::Vertex_handle v = t.insert(points[i].first, hint);
+    if (t.number_of_vertices() > before) v->info() = points[i].second;  // else a duplicate
+    hint = v->cell();
+    if (i % 4096 == 0) progress.report(static_cast<double>(i) / static_cast<double>(points.size()), "delaunay");
+  }
   return collect_3d(t, n);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Curve and surface reconstruction from samples by Voronoi filtering (§2.1.3), with the
 // approximate medial axis and local feature size of §2.1.2.
+#include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
 
 #include <Eigen/Core>
@@ -20,8 +21,11 @@ EdgeMatrix crust(const Eigen::Ref<const Eigen::MatrixXd>& samples);
 /// Approximate medial axis of a curve sampled densely (§2.1.2): the part of the Voronoi diagram
 /// of the samples dual to the Delaunay edges that are not crust edges (the Voronoi edges that do
 /// not cross the curve). Its vertices are Voronoi vertices, which converge to the medial axis as
-/// the sampling gets denser (in 2D every Voronoi vertex does). Unbounded Voronoi edges (rays) are
-/// left out: the result is finite.
+/// the sampling gets denser (in 2D every Voronoi vertex does). Exactly the Voronoi edges between
+/// two Voronoi vertices are returned (the inner axis and the bounded part of the outer axis: the
+/// circumcentres of the triangles between the curve and the convex hull, far out for thin hull
+/// triangles); the unbounded rays dual to convex-hull edges
+/// (the outer axis's branches to infinity) are left out, so the result is finite.
 struct MedialAxis {
   Eigen::MatrixXd vertices;  ///< #MV×2 Voronoi vertices used by the edges
   EdgeMatrix edges;          ///< #ME×2 Voronoi edges into `vertices`
@@ -49,8 +53,8 @@ struct CoconeOptions {
   /// (θ = π/8 in Amenta, Choi, Dey & Leekha 2002).
   double cocone_angle = 0.39269908169872414;
   /// Holes of the extracted surface bounded by simple loops of at most this many edges are
-  /// closed by ear cutting, and so are nearly planar ones (least principal spread of the loop's
-  /// points at most 0.4 of the largest) of at most 4× this many edges (0: leave every hole open).
+  /// closed, and so are nearly planar ones (least principal spread of the loop's points at most
+  /// 0.4 of the largest) of at most 4× this many edges (0: leave every hole open).
   int max_hole_edges = 8;
 };
 
@@ -67,12 +71,24 @@ struct CoconeOptions {
 /// of what remains is collected by a walk that, across each edge, takes the neighbour first
 /// reached when turning outwards and never uses a directed edge twice (so at most two triangles
 /// per edge, consistently oriented; one walk per connected surface, seeded at its extreme point
-/// in x); finally small holes (see CoconeOptions::max_hole_edges) are closed by ear cutting; at a
-/// vertex where the triangles form several fans only the largest fan is kept (then small holes
-/// are closed again; up to 3 rounds).
-/// points: n×3. Returns (V = the points, F = #F×3 triangles, consistently oriented, outwards). Manifold and watertight when the sampling is dense and free of noise.
+/// in x). Repair: small holes (see CoconeOptions::max_hole_edges) are closed by the minimum-area
+/// triangulation of the loop (dynamic programming; no triangle facing against the pole normals
+/// of two corners when avoidable); at a vertex where the triangles form several fans
+/// only the largest fan is kept (then small holes are closed again; up to 3 rounds); each point
+/// left on no triangle is inserted into the triangle it projects into and the edges around it are
+/// flipped while that makes the triangles agree better with the corner normals (or as well, and
+/// the two angles opposite the edge exceed π); an inward triangle (against the normals of two of
+/// its corners) is cut out with its three neighbours and the hole re-triangulated, when the
+/// region is a disk whose new triangulation faces outwards, else (a pleat) the stars of its
+/// corners are cut out, re-triangulated and the corners inserted again, kept only when all of
+/// that faces outwards with no longer edges (up to 32 such attempts).
+/// points: n×3. Returns (V = the points, F = #F×3 triangles, consistently oriented, outwards).
+/// Manifold and watertight when the sampling is dense and free of noise; every point is used
+/// when the surface is closed. progress: stages "delaunay" (35%), "crust_3d: poles", "cocone",
+/// "pruning", "extraction", "repair".
 /// \pre n >= 4, finite, not coplanar, no two points equal.
-/// \throw InputError if a precondition fails.
-Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& points, const CoconeOptions& options = {});
+/// \throw InputError if a precondition fails; Cancelled when progress cancels.
+Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& points, const CoconeOptions& options = {},
+              const Progress& progress = {});
 
 }  // namespace meshsmith::tessellation
