@@ -617,6 +617,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
 
   HalfedgeMesh mesh = build_halfedge_mesh(V, F);
   const int face_slots = static_cast<int>(mesh.face_alive.size());
+  if (face_slots == 0)
+    throw InputError("decimate: every face of F has a repeated vertex index: no triangle to decimate");
   Decimator decimator(mesh, options);
   decimator.set_quadrics(initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1)));
 
