@@ -1,0 +1,663 @@
+// Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh, error
+// quadrics, a binary heap with lazy deletion (version stamps), pluggable costs and fairness
+// criteria around one greedy loop.
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/parallel.h>
+#include <meshsmith/core/validation.h>
+#include <meshsmith/decimation/decimate.h>
+#include <meshsmith/decimation/quadric.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace meshsmith::decimation {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+// ---------------------------------------------------------------------------------------------
+// Half-edge mesh on the faces' corners: half-edge h = 3f + k runs from corner k of face f to
+// corner k+1, so next/prev are arithmetic and only `opposite` is stored.
+// ---------------------------------------------------------------------------------------------
+
+inline int next_halfedge(int h) { return (h % 3 == 2) ? h - 2 : h + 1; }
+inline int prev_halfedge(int h) { return (h % 3 == 0) ? h + 2 : h - 1; }
+
+struct HalfedgeMesh {
+  std::vector<Vec3> position;        // per working vertex
+  std::vector<int> corner_vertex;    // 3#F: start vertex of each half-edge
+  std::vector<int> opposite;         // 3#F: twin half-edge, −1 on the boundary
+  std::vector<int> vertex_halfedge;  // per vertex: an outgoing half-edge of a live face, or −1
+  std::vector<std::uint8_t> boundary;    // per vertex
+  std::vector<std::uint8_t> face_alive;  // per face
+  std::vector<int> split_origin;     // per working vertex: input vertex (empty: identity)
+
+  int from(int h) const { return corner_vertex[h]; }
+  int to(int h) const { return corner_vertex[next_halfedge(h)]; }
+  /// The half-edge that stands for the undirected edge of h (its smaller twin).
+  int canonical(int h) const { const int o = opposite[h]; return (o >= 0 && o < h) ? o : h; }
+
+  /// fn(h) for every outgoing half-edge h of v (each once), around the fan in either direction.
+  template <typename Fn>
+  void for_each_outgoing(int v, const Fn& fn) const {
+    const int start = vertex_halfedge[v];
+    if (start < 0) return;
+    int h = start;
+    while (true) {  // clockwise: h → twin of prev(h)
+      fn(h);
+      const int o = opposite[prev_halfedge(h)];
+      if (o < 0) break;
+      if (o == start) return;
+      h = o;
+    }
+    for (int o = opposite[start]; o >= 0;) {  // the open fan: the other way from start
+      const int g = next_halfedge(o);
+      fn(g);
+      o = opposite[g];
+    }
+  }
+
+  /// fn(u) for every neighbour u of v; a neighbour may be reported twice.
+  template <typename Fn>
+  void for_each_neighbour(int v, const Fn& fn) const {
+    for_each_outgoing(v, [&](int h) {
+      fn(to(h));
+      fn(from(prev_halfedge(h)));
+    });
+  }
+
+  int valence(int v) const {
+    int outgoing = 0;
+    for_each_outgoing(v, [&](int) { ++outgoing; });
+    return outgoing + (boundary[v] ? 1 : 0);
+  }
+};
+
+/// Builds the half-edge mesh of F (faces with a repeated index dropped). Two half-edges are twins
+/// only when their edge has exactly these two, in opposite directions; every vertex whose faces
+/// then form more than one fan is split into one working vertex per fan (copies appended).
+HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
+  HalfedgeMesh mesh;
+  const int n = static_cast<int>(V.rows());
+  std::vector<int> faces;
+  faces.reserve(static_cast<std::size_t>(F.rows()) * 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (a == b || b == c || c == a) continue;
+    faces.insert(faces.end(), {a, b, c});
+  }
+  const int halfedges = static_cast<int>(faces.size());
+  mesh.corner_vertex = std::move(faces);
+  mesh.opposite.assign(halfedges, -1);
+
+  // Twins: sort half-edges by their undirected edge; pair groups of exactly two opposite ones.
+  struct Key { std::uint64_t edge; int h; };
+  std::vector<Key> keys(halfedges);
+  for (int h = 0; h < halfedges; ++h) {
+    const auto u = static_cast<std::uint64_t>(mesh.corner_vertex[h]);
+    const auto v = static_cast<std::uint64_t>(mesh.corner_vertex[next_halfedge(h)]);
+    keys[h] = {(std::min(u, v) << 32) | std::max(u, v), h};
+  }
+  std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
+    return x.edge < y.edge || (x.edge == y.edge && x.h < y.h);
+  });
+  for (int i = 0; i < halfedges;) {
+    int j = i + 1;
+    while (j < halfedges && keys[j].edge == keys[i].edge) ++j;
+    if (j - i == 2) {
+      const int g = keys[i].h, h = keys[i + 1].h;
+      if (mesh.corner_vertex[g] != mesh.corner_vertex[h]) {
+        mesh.opposite[g] = h;
+        mesh.opposite[h] = g;
+      }
+    }
+    i = j;
+  }
+
+  // One working vertex per fan: walk each fan from an unvisited outgoing half-edge.
+  mesh.vertex_halfedge.assign(n, -1);
+  std::vector<int> origin(n);
+  for (int v = 0; v < n; ++v) origin[v] = v;
+  std::vector<std::uint8_t> visited(halfedges, 0);
+  std::vector<int> fan;
+  for (int start = 0; start < halfedges; ++start) {
+    if (visited[start]) continue;
+    const int v = mesh.corner_vertex[start];
+    fan.clear();
+    // Walk clockwise to the fan's end (or around), then collect counter-clockwise from there.
+    int first = start;
+    for (int o = mesh.opposite[prev_halfedge(first)]; o >= 0 && o != start; o = mesh.opposite[prev_halfedge(first)])
+      first = o;
+    int h = first;
+    while (true) {
+      fan.push_back(h);
+      const int o = mesh.opposite[h];
+      if (o < 0) break;
+      h = next_halfedge(o);
+      if (h == first) break;
+    }
+    int id = v;
+    if (mesh.vertex_halfedge[v] >= 0) {  // v already has a fan: this one gets a copy
+      id = static_cast<int>(origin.size());
+      origin.push_back(v);
+      mesh.vertex_halfedge.push_back(-1);
+    }
+    mesh.vertex_halfedge[id] = first;
+    for (const int g : fan) {
+      visited[g] = 1;
+      mesh.corner_vertex[g] = id;
+    }
+  }
+  const int working = static_cast<int>(origin.size());
+  mesh.position.resize(working);
+  for (int v = 0; v < working; ++v) mesh.position[v] = V.row(origin[v]).transpose();
+  if (working != n) mesh.split_origin = std::move(origin);
+
+  mesh.boundary.assign(working, 0);
+  for (int h = 0; h < halfedges; ++h)
+    if (mesh.opposite[h] < 0) {
+      mesh.boundary[mesh.corner_vertex[h]] = 1;
+      mesh.boundary[mesh.corner_vertex[next_halfedge(h)]] = 1;
+    }
+  mesh.face_alive.assign(halfedges / 3, 1);
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quadrics (§4.2.2, error quadrics): face planes weighted by area / mean area, plus constraint
+// planes through boundary edges, perpendicular to their face.
+// ---------------------------------------------------------------------------------------------
+
+constexpr double kBoundaryConstraintWeight = 10.0;
+
+std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_planes, const Progress& progress) {
+  const int faces = static_cast<int>(mesh.face_alive.size());
+  std::vector<Vec3> area_normal(faces);  // (twice the area) × unit normal
+  parallel_for_with_progress(faces, progress, "face planes", [&](Eigen::Index f) {
+    const Vec3& p = mesh.position[mesh.corner_vertex[3 * f]];
+    const Vec3& q = mesh.position[mesh.corner_vertex[3 * f + 1]];
+    const Vec3& r = mesh.position[mesh.corner_vertex[3 * f + 2]];
+    area_normal[f] = (q - p).cross(r - p);
+  });
+  double total = 0;
+  for (const Vec3& a : area_normal) total += a.norm();
+  const double mean_double_area = (faces > 0 && total > 0) ? total / faces : 1.0;
+
+  std::vector<Quadric> face_quadric(faces);
+  parallel_for_with_progress(faces, progress, "face quadrics", [&](Eigen::Index f) {
+    const double double_area = area_normal[f].norm();
+    if (!(double_area > 0)) return;  // a zero-area face has no plane
+    const Vec3 normal = area_normal[f] / double_area;
+    face_quadric[f] = Quadric::from_plane(normal, mesh.position[mesh.corner_vertex[3 * f]],
+                                          double_area / mean_double_area);
+  });
+  std::vector<Quadric> quadric(mesh.position.size());
+  for (int f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) quadric[mesh.corner_vertex[3 * f + k]] += face_quadric[f];
+
+  if (boundary_planes) {
+    for (int h = 0; h < 3 * faces; ++h) {
+      if (mesh.opposite[h] >= 0) continue;
+      const Vec3& p = mesh.position[mesh.from(h)];
+      const Vec3& q = mesh.position[mesh.to(h)];
+      const Vec3 along = q - p;
+      const Vec3 side = along.cross(area_normal[h / 3]);
+      const double length = side.norm();
+      if (!(length > 0)) continue;
+      const Quadric constraint = Quadric::from_plane(
+          side / length, p, kBoundaryConstraintWeight * along.squaredNorm() / mean_double_area);
+      quadric[mesh.from(h)] += constraint;
+      quadric[mesh.to(h)] += constraint;
+    }
+  }
+  return quadric;
+}
+
+/// Quadric::minimizer with a closed-form fast path: when the smallest eigenvalue of A is surely
+/// above the pseudo-inverse's cut (det A > 10⁻³ (tr A)³ implies λ_min > 10⁻³ λ_max), the inverse
+/// gives the same point without an eigen-decomposition.
+Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
+  const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
+  const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
+  const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
+  const double trace = q.a00 + q.a11 + q.a22;
+  if (trace > 0 && det > 1e-3 * trace * trace * trace) {
+    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+    const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+    const double s = -1.0 / det;
+    return {s * (c00 * q.b0 + c01 * q.b1 + c02 * q.b2), s * (c01 * q.b0 + c11 * q.b1 + c12 * q.b2),
+            s * (c02 * q.b0 + c12 * q.b1 + c22 * q.b2)};
+  }
+  return q.minimizer(reference);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The decimator: candidates, costs, fairness criteria, the collapse itself, and the loop.
+// ---------------------------------------------------------------------------------------------
+
+/// A collapse of half-edge h: from(h) is removed and merges into to(h), which moves to `target`.
+struct Candidate {
+  double cost = kInfinity;
+  int halfedge = -1;
+  Vec3 target = Vec3::Zero();
+};
+
+class Decimator {
+ public:
+  Decimator(HalfedgeMesh& mesh, const QemOptions& options)
+      : mesh_(mesh), options_(options), mark_(mesh.position.size(), 0) {
+    if (options_.max_normal_deviation_deg > 0)
+      min_normal_cosine_ = std::cos(options_.max_normal_deviation_deg * kDegree);
+  }
+
+  void set_quadrics(std::vector<Quadric> quadric) { quadric_ = std::move(quadric); }
+
+  /// The best collapse of the edge of half-edge h (either direction, as the operator and the
+  /// boundary rule allow); cost = ∞ when none is allowed.
+  Candidate evaluate(int h) const {
+    const int o = mesh_.opposite[h];
+    const int u = mesh_.from(h), v = mesh_.to(h);
+    bool u_may_go = true, v_may_go = true;  // may u (v) be the removed vertex?
+    if (options_.keep_boundary) {
+      const bool ub = mesh_.boundary[u], vb = mesh_.boundary[v];
+      if (o >= 0 && ub && vb) return {};  // an interior edge between two boundary vertices
+      if (ub && !vb) u_may_go = false;
+      if (vb && !ub) v_may_go = false;
+    }
+    if (options_.collapse == CollapseOperator::halfedge || !(u_may_go && v_may_go)) {
+      Candidate best;
+      if (u_may_go) best = {cost_of(u, v, mesh_.position[v]), h, mesh_.position[v]};
+      if (v_may_go) {
+        const double c = cost_of(v, u, mesh_.position[u]);
+        // A boundary edge has no twin to name the reversed collapse: it is stored as ~h.
+        if (c < best.cost) best = {c, o >= 0 ? o : ~h, mesh_.position[u]};
+      }
+      return best;
+    }
+    const Quadric q = quadric_[u] + quadric_[v];
+    const Vec3 target = optimal_position(q, 0.5 * (mesh_.position[u] + mesh_.position[v]));
+    return {cost_of(u, v, target), h, target};
+  }
+
+  // Multiple-choice and the heap store candidates by half-edge; a boundary half-edge collapsed
+  // backwards (its `to` removed) is stored as ~h, resolved here.
+  struct Resolved { int removed, kept, halfedge_removed_to_kept, twin; };
+  Resolved resolve(int stored) const {
+    if (stored >= 0) return {mesh_.from(stored), mesh_.to(stored), stored, mesh_.opposite[stored]};
+    const int h = ~stored;  // boundary half-edge u→v with v removed: the face is on the right
+    return {mesh_.to(h), mesh_.from(h), -1, h};
+  }
+
+  /// Link condition, topology guards and the fairness criteria for the collapse `c`.
+  bool is_admissible(const Candidate& c) {
+    const Resolved r = resolve(c.halfedge);
+    const int a = r.removed, b = r.kept;
+    // The faces that die: f0 of a→b (third vertex l) and f1 of b→a (third vertex r).
+    const int h0 = r.halfedge_removed_to_kept, h1 = r.twin;
+    int left = -1, right = -1;
+    if (h0 >= 0) {
+      left = mesh_.from(prev_halfedge(h0));
+      if (mesh_.opposite[next_halfedge(h0)] < 0 && mesh_.opposite[prev_halfedge(h0)] < 0) return false;
+    }
+    if (h1 >= 0) {
+      right = mesh_.from(prev_halfedge(h1));
+      if (mesh_.opposite[next_halfedge(h1)] < 0 && mesh_.opposite[prev_halfedge(h1)] < 0) return false;
+    }
+    if (left == right) return false;  // two faces on the same three vertices
+    const bool interior_edge = h0 >= 0 && h1 >= 0;
+    if (interior_edge && mesh_.boundary[a] && mesh_.boundary[b]) return false;
+
+    // Link condition: the common neighbours of a and b are exactly the opposite vertices.
+    stamp_ += 2;
+    mesh_.for_each_neighbour(a, [&](int x) { mark_[x] = stamp_; });
+    bool link_ok = true;
+    int common = 0;
+    mesh_.for_each_neighbour(b, [&](int x) {
+      if (mark_[x] == stamp_) {
+        mark_[x] = stamp_ + 1;
+        ++common;
+        if (x != left && x != right) link_ok = false;
+      }
+    });
+    if (!link_ok) return false;
+    // A tetrahedron (closed, both valence 3) cannot lose a vertex and stay a surface.
+    const int valence_a = mesh_.valence(a), valence_b = mesh_.valence(b);
+    if (interior_edge && valence_a == 3 && valence_b == 3) return false;
+    if (options_.max_valence > 0 && valence_a + valence_b - 2 - common > options_.max_valence) return false;
+
+    // Fairness on the faces that survive around a (and around b when it moves).
+    const int dead0 = h0 >= 0 ? h0 / 3 : -1, dead1 = h1 >= 0 ? h1 / 3 : -1;
+    bool fair = true;
+    auto check_faces_around = [&](int v) {
+      mesh_.for_each_outgoing(v, [&](int h) {
+        if (!fair) return;
+        const int f = h / 3;
+        if (f == dead0 || f == dead1) return;
+        const Vec3& p = mesh_.position[mesh_.to(h)];
+        const Vec3& q = mesh_.position[mesh_.from(prev_halfedge(h))];
+        fair = face_stays_fair(mesh_.position[v], c.target, p, q);
+      });
+    };
+    check_faces_around(a);
+    if (fair && c.target != mesh_.position[b]) check_faces_around(b);
+    return fair;
+  }
+
+  /// Performs the collapse `c` (admissible) and returns its record.
+  CollapseRecord collapse(const Candidate& c) {
+    const Resolved r = resolve(c.halfedge);
+    const int a = r.removed, b = r.kept;
+    died.clear();
+    CollapseRecord record;
+    record.removed = a;
+    record.kept = b;
+    record.removed_position = mesh_.position[a];
+    record.kept_position_before = mesh_.position[b];
+    record.kept_position_after = c.target;
+    if (r.halfedge_removed_to_kept >= 0) record.left = mesh_.from(prev_halfedge(r.halfedge_removed_to_kept));
+    if (r.twin >= 0) record.right = mesh_.from(prev_halfedge(r.twin));
+
+    mesh_.for_each_outgoing(a, [&](int h) { mesh_.corner_vertex[h] = b; });
+    if (r.halfedge_removed_to_kept >= 0) remove_face(r.halfedge_removed_to_kept, b);
+    if (r.twin >= 0) remove_face(r.twin, b);
+    mesh_.vertex_halfedge[a] = -1;
+    mesh_.position[b] = c.target;
+    mesh_.boundary[b] = mesh_.boundary[a] || mesh_.boundary[b];
+    quadric_[b] += quadric_[a];
+    return record;
+  }
+
+  int removed_faces_of(const Candidate& c) const {
+    const Resolved r = resolve(c.halfedge);
+    return (r.halfedge_removed_to_kept >= 0) + (r.twin >= 0);
+  }
+
+  /// The faces removed by the last collapse (the multiple-choice variant drops them from its list).
+  std::vector<int> died;
+
+ private:
+  /// Removes the face of half-edge h (whose start vertex now reads `kept`), gluing the twins of
+  /// its two other sides together and repointing the vertices' outgoing half-edges.
+  void remove_face(int h, int kept) {
+    const int h1 = next_halfedge(h), h2 = prev_halfedge(h);
+    const int o1 = mesh_.opposite[h1], o2 = mesh_.opposite[h2];  // o1: t→kept, o2: kept→t
+    const int t = mesh_.from(h2);
+    if (o1 >= 0) mesh_.opposite[o1] = o2;
+    if (o2 >= 0) mesh_.opposite[o2] = o1;
+    mesh_.vertex_halfedge[t] = o1 >= 0 ? o1 : next_halfedge(o2);
+    mesh_.vertex_halfedge[kept] = o2 >= 0 ? o2 : next_halfedge(o1);
+    mesh_.face_alive[h / 3] = 0;
+    died.push_back(h / 3);
+  }
+
+  /// The error metric of merging `removed` into `kept` at `target` (§4.2.2).
+  double cost_of(int removed, int kept, const Vec3& target) const {
+    switch (options_.cost) {
+      case CollapseCost::quadric:
+        return (quadric_[removed] + quadric_[kept]).error(target);
+      case CollapseCost::plane_distance:
+        return plane_distance_cost(removed, kept, target);
+      case CollapseCost::volume_change:
+        return volume_change_cost(removed, kept, target);
+    }
+    return kInfinity;
+  }
+
+  double plane_distance_cost(int removed, int kept, const Vec3& target) const {
+    Vec3 sum = Vec3::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    int count = 0;
+    auto add = [&](int x) {
+      const Vec3& p = mesh_.position[x];
+      sum += p;
+      second += p * p.transpose();
+      ++count;
+    };
+    mesh_.for_each_neighbour(removed, add);  // duplicates only reweight the fit slightly
+    mesh_.for_each_neighbour(kept, add);
+    const Vec3 centroid = sum / count;
+    const Eigen::Matrix3d covariance = second / count - centroid * centroid.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(covariance);
+    const double distance = eigen.eigenvectors().col(0).dot(target - centroid);
+    return distance * distance;
+  }
+
+  double volume_change_cost(int removed, int kept, const Vec3& target) const {
+    double volume = 0;
+    auto sweep = [&](int v) {
+      const Vec3& from = mesh_.position[v];
+      if (from == target) return;
+      mesh_.for_each_outgoing(v, [&](int h) {
+        const Vec3& p = mesh_.position[mesh_.to(h)];
+        const Vec3& q = mesh_.position[mesh_.from(prev_halfedge(h))];
+        volume += (target - from).dot((p - from).cross(q - from)) / 6.0;
+      });
+    };
+    sweep(removed);
+    sweep(kept);
+    return std::abs(volume);
+  }
+
+  /// The fairness criteria (§4.2.3) on one surviving face (moving, p, q) whose corner `moving`
+  /// goes from `before` to `after`.
+  bool face_stays_fair(const Vec3& before, const Vec3& after, const Vec3& p, const Vec3& q) const {
+    const Vec3 old_normal = (p - before).cross(q - before);
+    const Vec3 new_normal = (p - after).cross(q - after);
+    const double dot = old_normal.dot(new_normal);
+    const double old_norm = old_normal.norm();
+    if (options_.prevent_normal_flips && old_norm > 0 && !(dot > 0)) return false;
+    if (min_normal_cosine_ > -1 && old_norm > 0 && dot < min_normal_cosine_ * old_norm * new_normal.norm())
+      return false;
+    if (options_.min_triangle_quality > 0) {
+      const double quality_after = triangle_quality(new_normal.norm(), after, p, q);
+      if (quality_after < options_.min_triangle_quality &&
+          quality_after < triangle_quality(old_norm, before, p, q))
+        return false;
+    }
+    return true;
+  }
+
+  static double triangle_quality(double double_area, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double edges = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+    return edges > 0 ? 2.0 * std::sqrt(3.0) * double_area / edges : 0.0;
+  }
+
+  HalfedgeMesh& mesh_;
+  const QemOptions& options_;
+  std::vector<Quadric> quadric_;
+  std::vector<int> mark_;
+  int stamp_ = 0;
+  double min_normal_cosine_ = -2;
+};
+
+void check_options(const QemOptions& options) {
+  if (options.target_faces < 0)
+    throw InputError("decimate: target_faces must be >= 0, got " + std::to_string(options.target_faces));
+  if (!(options.max_error >= 0) || !std::isfinite(options.max_error))
+    throw InputError("decimate: max_error must be a finite value >= 0, got " + std::to_string(options.max_error));
+  if (options.target_faces == 0 && options.max_error == 0)
+    throw InputError("decimate: no stop rule: give target_faces > 0 or max_error > 0");
+  if (options.candidates < 0)
+    throw InputError("decimate: candidates must be >= 0, got " + std::to_string(options.candidates));
+  if (options.max_valence < 0)
+    throw InputError("decimate: max_valence must be >= 0, got " + std::to_string(options.max_valence));
+  if (!(options.min_triangle_quality >= 0 && options.min_triangle_quality <= 1))
+    throw InputError("decimate: min_triangle_quality must be in [0, 1], got " +
+                     std::to_string(options.min_triangle_quality));
+  if (!(options.max_normal_deviation_deg >= 0 && options.max_normal_deviation_deg <= 180))
+    throw InputError("decimate: max_normal_deviation_deg must be in [0, 180], got " +
+                     std::to_string(options.max_normal_deviation_deg));
+}
+
+/// splitmix64: the multiple-choice variant's random stream.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t operator()() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+};
+
+}  // namespace
+
+QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& options, const Progress& progress) {
+  validate_mesh(V, F);
+  check_options(options);
+  if (V.rows() >= std::numeric_limits<int>::max() / 4 || F.rows() >= std::numeric_limits<int>::max() / 4)
+    throw InputError("decimate: mesh too large (more than 2^29 vertices or faces)");
+
+  HalfedgeMesh mesh = build_halfedge_mesh(V, F);
+  const int face_slots = static_cast<int>(mesh.face_alive.size());
+  Decimator decimator(mesh, options);
+  decimator.set_quadrics(initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1)));
+
+  QemResult result;
+  Eigen::Index faces = face_slots;
+  const Eigen::Index target = options.target_faces;
+  const double max_error = options.max_error > 0 ? options.max_error : kInfinity;
+  const Progress loop_progress = progress.subrange(0.2, 0.98);
+  const Eigen::Index to_remove = target > 0 ? std::max<Eigen::Index>(faces - target, 1) : faces;
+  auto report = [&] {
+    loop_progress.report(std::min(1.0, static_cast<double>(face_slots - faces) / static_cast<double>(to_remove)),
+                         "collapses");
+  };
+  auto perform = [&](const Candidate& c) {
+    faces -= decimator.removed_faces_of(c);
+    CollapseRecord record = decimator.collapse(c);
+    result.max_collapse_error = std::max(result.max_collapse_error, c.cost);
+    ++result.collapse_count;
+    if (options.record_collapses) result.collapses.push_back(record);
+  };
+  auto done = [&] { return target > 0 && faces <= target; };
+
+  if (options.candidates == 0) {
+    // Full priority queue: a binary min-heap of (cost, stored half-edge, version); an entry is
+    // stale when its edge's version moved on (every re-evaluation takes a fresh global stamp).
+    struct Entry { double cost; int stored; std::uint32_t version; };
+    auto later = [](const Entry& x, const Entry& y) { return x.cost > y.cost; };
+    std::vector<std::uint32_t> version(3 * static_cast<std::size_t>(face_slots), 0);
+    std::uint32_t clock = 0;
+    std::vector<Entry> heap;
+    {
+      std::vector<double> cost(3 * static_cast<std::size_t>(face_slots), kInfinity);
+      std::vector<int> stored(cost.size(), 0);
+      parallel_for_with_progress(3 * static_cast<Eigen::Index>(face_slots), progress.subrange(0.1, 0.2),
+                                 "edge costs", [&](Eigen::Index h) {
+        if (mesh.canonical(static_cast<int>(h)) != h) return;
+        const Candidate c = decimator.evaluate(static_cast<int>(h));
+        cost[h] = c.cost;
+        stored[h] = c.halfedge;
+      });
+      heap.reserve(cost.size() / 2 + 16);
+      for (std::size_t h = 0; h < cost.size(); ++h)
+        if (cost[h] < kInfinity) {
+          version[h] = ++clock;
+          heap.push_back({cost[h], stored[h], clock});
+        }
+      std::make_heap(heap.begin(), heap.end(), later);
+    }
+    auto edge_of = [&](int stored) { return mesh.canonical(stored >= 0 ? stored : ~stored); };
+    auto push_edge = [&](int h) {
+      const int e = mesh.canonical(h);
+      version[e] = ++clock;  // invalidates every older entry of this edge
+      const Candidate c = decimator.evaluate(e);
+      if (c.cost < kInfinity) {
+        heap.push_back({c.cost, c.halfedge, clock});
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+    };
+    while (!done() && !heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), later);
+      const Entry entry = heap.back();
+      heap.pop_back();
+      const int plain = entry.stored >= 0 ? entry.stored : ~entry.stored;
+      if (!mesh.face_alive[plain / 3] || version[edge_of(entry.stored)] != entry.version) continue;
+      if (entry.cost > max_error) break;
+      // Re-evaluate: the position depends only on the quadrics, which are current for this entry.
+      Candidate c = decimator.evaluate(edge_of(entry.stored));
+      if (!(c.cost < kInfinity) || !decimator.is_admissible(c)) continue;  // re-queued when its ring changes
+      const int kept = decimator.resolve(c.halfedge).kept;
+      perform(c);
+      mesh.for_each_outgoing(kept, [&](int h) {
+        push_edge(h);
+        const int incoming = prev_halfedge(h);
+        if (mesh.opposite[incoming] < 0) push_edge(incoming);
+      });
+      report();
+    }
+  } else {
+    // Multiple choice (Wu & Kobbelt 2002): the best of k random live edges each step. Live faces
+    // are kept in a list with O(1) removal so the sampling stays uniform as faces die.
+    std::vector<int> live(face_slots), slot_of(face_slots);
+    for (int f = 0; f < face_slots; ++f) live[f] = slot_of[f] = f;
+    SplitMix64 random{options.seed};
+    const int patience = 1000;  // consecutive steps without an admissible collapse below the bound
+    int misses = 0;
+    while (!done() && !live.empty() && misses < patience) {
+      Candidate best;
+      for (int k = 0; k < options.candidates; ++k) {
+        const auto pick = random();
+        const int f = live[pick % live.size()];
+        const int h = mesh.canonical(3 * f + static_cast<int>((pick >> 40) % 3));
+        const Candidate c = decimator.evaluate(h);
+        if (c.cost < best.cost && c.cost <= max_error && decimator.is_admissible(c)) best = c;
+      }
+      if (!(best.cost < kInfinity)) { ++misses; continue; }
+      misses = 0;
+      perform(best);
+      for (const int f : decimator.died) {
+        const int s = slot_of[f];
+        live[s] = live.back();
+        slot_of[live[s]] = s;
+        live.pop_back();
+      }
+      report();
+    }
+  }
+  loop_progress.report(1.0, "collapses");
+  result.target_reached = done();
+
+  // Compact the live faces and their vertices.
+  std::vector<int> new_index(mesh.position.size(), -1);
+  Eigen::Index output_vertices = 0;
+  for (int f = 0; f < face_slots; ++f)
+    if (mesh.face_alive[f])
+      for (int k = 0; k < 3; ++k) {
+        int& slot = new_index[mesh.corner_vertex[3 * f + k]];
+        if (slot < 0) slot = static_cast<int>(output_vertices++);
+      }
+  result.V.resize(output_vertices, 3);
+  result.vertex_origin.resize(output_vertices);
+  for (std::size_t v = 0; v < new_index.size(); ++v)
+    if (new_index[v] >= 0) {
+      result.V.row(new_index[v]) = mesh.position[v].transpose();
+      result.vertex_origin(new_index[v]) = mesh.split_origin.empty() ? static_cast<int>(v) : mesh.split_origin[v];
+    }
+  result.F.resize(faces, 3);
+  Eigen::Index row = 0;
+  for (int f = 0; f < face_slots; ++f)
+    if (mesh.face_alive[f]) {
+      for (int k = 0; k < 3; ++k) result.F(row, k) = new_index[mesh.corner_vertex[3 * f + k]];
+      ++row;
+    }
+  if (!mesh.split_origin.empty())
+    result.split_vertex_origin = Eigen::Map<const Eigen::VectorXi>(mesh.split_origin.data(),
+                                                                   static_cast<Eigen::Index>(mesh.split_origin.size()));
+  progress.report(1.0, "decimate");
+  return result;
+}
+
+}  // namespace meshsmith::decimation
