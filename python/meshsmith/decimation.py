@@ -61,7 +61,7 @@ def cluster(V, F, *, cell_size: float | None = None, target_vertices: int | None
 
     Returns a :class:`ClusteredMesh`. Raises InputError for bad input, when both or neither of
     cell_size and target_vertices are given, for a cell size that is not positive or so small
-    that an axis needs more than 2**31 cells, or an unknown representative.
+    that an axis needs 2**21 cells or more, or an unknown representative.
     """
     if (cell_size is None) == (target_vertices is None):
         raise InputError("cluster: give exactly one of cell_size and target_vertices")

@@ -34,36 +34,68 @@ std::vector<char> referenced_vertices(Eigen::Index n_vertices, const FaceRef& F)
   return referenced;
 }
 
-Grid assign_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size) {
+/// Bits per axis of a packed cell key: cells per axis must stay below 2^21.
+constexpr int kAxisBits = 21;
+
+/// Origin of the grid (minimum corner of the referenced vertices) and the referenced vertices.
+/// \throw InputError for a bad cell size or one that needs 2^21 or more cells along an axis.
+std::vector<int> grid_vertices(const VertexRef& V, const std::vector<char>& referenced, double cell_size,
+                               Eigen::Vector3d& origin) {
   if (!(cell_size > 0.0) || !std::isfinite(cell_size))
     throw InputError("cluster: cell_size must be a positive finite number, got " + std::to_string(cell_size));
-  Grid grid;
-  grid.cell_size = cell_size;
-  grid.origin = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d upper = -grid.origin;
+  origin = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d upper = -origin;
   std::vector<int> vertices;
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (referenced[v]) {
       vertices.push_back(static_cast<int>(v));
-      grid.origin = grid.origin.cwiseMin(V.row(v).transpose());
+      origin = origin.cwiseMin(V.row(v).transpose());
       upper = upper.cwiseMax(V.row(v).transpose());
     }
-  const double cells_per_axis = (upper - grid.origin).maxCoeff() / cell_size;
-  if (!(cells_per_axis < 2147483648.0))
+  const double extent = (upper - origin).maxCoeff();
+  if (!(extent / cell_size < static_cast<double>((1 << kAxisBits) - 1)))
     throw InputError("cluster: cell_size " + std::to_string(cell_size) + " is too small for the mesh extent (" +
-                     std::to_string((upper - grid.origin).maxCoeff()) + "): more than 2^31 cells per axis");
-  std::vector<Cell> cells(V.rows());
-  for (int v : vertices)
-    for (int k = 0; k < 3; ++k)
-      cells[v][k] = static_cast<std::int64_t>(std::floor((V(v, k) - grid.origin(k)) / cell_size));
-  std::sort(vertices.begin(), vertices.end(),
-            [&](int a, int b) { return cells[a] != cells[b] ? cells[a] < cells[b] : a < b; });
+                     std::to_string(extent) + "): 2^21 or more cells per axis");
+  return vertices;
+}
+
+/// The packed cell (ix, iy, iz) of vertex v: ix in the high bits, so keys sort lexicographically.
+std::uint64_t cell_key(const VertexRef& V, Eigen::Index v, const Eigen::Vector3d& origin, double cell_size) {
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k)
+    key = (key << kAxisBits) | static_cast<std::uint64_t>(std::floor((V(v, k) - origin(k)) / cell_size));
+  return key;
+}
+
+Grid assign_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size) {
+  Grid grid;
+  grid.cell_size = cell_size;
+  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, grid.origin);
+  std::vector<std::pair<std::uint64_t, int>> keyed(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    keyed[i] = {cell_key(V, vertices[i], grid.origin, cell_size), vertices[i]};
+  std::sort(keyed.begin(), keyed.end());
   grid.vertex_cluster.assign(V.rows(), -1);
-  for (std::size_t i = 0; i < vertices.size(); ++i) {
-    if (i == 0 || cells[vertices[i]] != cells[vertices[i - 1]]) grid.cluster_cell.push_back(cells[vertices[i]]);
-    grid.vertex_cluster[vertices[i]] = static_cast<int>(grid.cluster_cell.size()) - 1;
+  constexpr std::uint64_t mask = (std::uint64_t{1} << kAxisBits) - 1;
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    const std::uint64_t key = keyed[i].first;
+    if (i == 0 || key != keyed[i - 1].first)
+      grid.cluster_cell.push_back({static_cast<std::int64_t>(key >> (2 * kAxisBits)),
+                                   static_cast<std::int64_t>((key >> kAxisBits) & mask),
+                                   static_cast<std::int64_t>(key & mask)});
+    grid.vertex_cluster[keyed[i].second] = static_cast<int>(grid.cluster_cell.size()) - 1;
   }
   return grid;
+}
+
+/// Number of distinct cells of the referenced vertices (what assign_cells would number).
+Eigen::Index count_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size) {
+  Eigen::Vector3d origin;
+  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, origin);
+  std::vector<std::uint64_t> keys(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) keys[i] = cell_key(V, vertices[i], origin, cell_size);
+  std::sort(keys.begin(), keys.end());
+  return static_cast<Eigen::Index>(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
 
 double median_of(std::vector<double>& values) {
@@ -194,7 +226,7 @@ ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const Cl
 
 Eigen::Index occupied_cell_count(const VertexRef& V, const FaceRef& F, double cell_size) {
   validate_mesh(V, F);
-  return static_cast<Eigen::Index>(assign_cells(V, referenced_vertices(V.rows(), F), cell_size).cluster_cell.size());
+  return count_cells(V, referenced_vertices(V.rows(), F), cell_size);
 }
 
 double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::Index target_vertices) {
@@ -211,18 +243,20 @@ double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::I
   const double extent = (high - low).maxCoeff();
   if (!(extent > 0.0)) return 1.0;  // every referenced vertex at one point: one cell whatever the size
   // count(size) falls (in tendency) as size grows; at extent·(1 + ε) it is 1.
-  double small = extent * 1e-7, large = extent * 1.000001;
+  double small = extent * 1e-6, large = extent * 1.000001;
   double best = large;
   Eigen::Index best_count = 1;
-  for (int iteration = 0; iteration < 48; ++iteration) {
+  // Close enough: within 0.5% below the target (the count moves in steps anyway).
+  const Eigen::Index good_enough = target_vertices - target_vertices / 200;
+  for (int iteration = 0; iteration < 40; ++iteration) {
     const double size = std::sqrt(small * large);
-    const Eigen::Index count = static_cast<Eigen::Index>(assign_cells(V, referenced, size).cluster_cell.size());
+    const Eigen::Index count = count_cells(V, referenced, size);
     if (count <= target_vertices && (best_count > target_vertices || count > best_count ||
                                      (count == best_count && size < best))) {
       best = size;
       best_count = count;
     }
-    if (count == target_vertices) break;
+    if (count <= target_vertices && count >= good_enough) break;
     (count > target_vertices ? small : large) = size;
     if (large / small < 1.0 + 1e-9) break;
   }

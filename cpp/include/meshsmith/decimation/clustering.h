@@ -38,7 +38,7 @@ struct ClusteringResult {
 /// V: #V×3 positions, F: #F×3 triangles. Unreferenced vertices are ignored.
 /// \pre validate_mesh(V, F) passes (called here).
 /// \throw InputError if it does not, if the cell size is not a positive finite number, or if it is
-///        so small that a grid axis would need more than 2³¹ cells.
+///        so small that a grid axis would need 2²¹ cells or more.
 ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const ClusteringOptions& options,
                                   const Progress& progress = {});
 
@@ -47,9 +47,10 @@ ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const Cl
 /// \pre as cluster_vertices. \throw InputError as cluster_vertices.
 Eigen::Index occupied_cell_count(const VertexRef& V, const FaceRef& F, double cell_size);
 
-/// The cell size whose occupied-cell count is closest to `target_vertices` (never above it when
-/// that is reachable), found by bisection on the logarithm of the cell size (the count falls
-/// monotonically only in tendency, so the best size seen is returned).
+/// The cell size whose occupied-cell count is closest to `target_vertices` without exceeding it
+/// when that is reachable (within 0.5% below is accepted), found by bisection on the logarithm of
+/// the cell size (the count falls monotonically only in tendency, so the best size seen is
+/// returned).
 /// \pre as cluster_vertices. \throw InputError if target_vertices < 1.
 double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::Index target_vertices);
 
