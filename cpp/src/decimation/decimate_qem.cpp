@@ -1,5 +1,5 @@
 // Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh, error
-// quadrics, a binary heap with lazy deletion (version stamps), pluggable costs and fairness
+// quadrics, a 4-ary heap with lazy deletion, pluggable costs and fairness
 // criteria around one greedy loop.
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/parallel.h>
@@ -98,28 +98,31 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
   mesh.corner_vertex = std::move(faces);
   mesh.opposite.assign(halfedges, -1);
 
-  // Twins: sort half-edges by their undirected edge; pair groups of exactly two opposite ones.
-  struct Key { std::uint64_t edge; int h; };
-  std::vector<Key> keys(halfedges);
-  for (int h = 0; h < halfedges; ++h) {
-    const auto u = static_cast<std::uint64_t>(mesh.corner_vertex[h]);
-    const auto v = static_cast<std::uint64_t>(mesh.corner_vertex[next_halfedge(h)]);
-    keys[h] = {(std::min(u, v) << 32) | std::max(u, v), h};
+  // Twins: bucket the half-edges by their smaller end vertex (counting sort), then within each
+  // bucket pair the edges that have exactly two half-edges, in opposite directions.
+  std::vector<int> bucket_start(static_cast<std::size_t>(n) + 1, 0);
+  for (int h = 0; h < halfedges; ++h)
+    ++bucket_start[std::min(mesh.corner_vertex[h], mesh.corner_vertex[next_halfedge(h)]) + 1];
+  for (int v = 0; v < n; ++v) bucket_start[v + 1] += bucket_start[v];
+  std::vector<int> bucket(halfedges);
+  {
+    std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
+    for (int h = 0; h < halfedges; ++h)
+      bucket[fill[std::min(mesh.corner_vertex[h], mesh.corner_vertex[next_halfedge(h)])]++] = h;
   }
-  std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
-    return x.edge < y.edge || (x.edge == y.edge && x.h < y.h);
-  });
-  for (int i = 0; i < halfedges;) {
-    int j = i + 1;
-    while (j < halfedges && keys[j].edge == keys[i].edge) ++j;
-    if (j - i == 2) {
-      const int g = keys[i].h, h = keys[i + 1].h;
-      if (mesh.corner_vertex[g] != mesh.corner_vertex[h]) {
-        mesh.opposite[g] = h;
-        mesh.opposite[h] = g;
-      }
+  auto other_end = [&](int h, int v) {
+    const int u = mesh.corner_vertex[h], w = mesh.corner_vertex[next_halfedge(h)];
+    return u == v ? w : u;
+  };
+  for (int v = 0; v < n; ++v) {
+    const int begin = bucket_start[v], end = bucket_start[v + 1];
+    for (int i = begin; i < end; ++i) {
+      const int g = bucket[i], far = other_end(g, v);
+      int partners = 0, partner = -1;
+      for (int j = begin; j < end; ++j)
+        if (j != i && other_end(bucket[j], v) == far) { ++partners; partner = bucket[j]; }
+      if (partners == 1 && mesh.corner_vertex[g] != mesh.corner_vertex[partner]) mesh.opposite[g] = partner;
     }
-    i = j;
   }
 
   // One working vertex per fan: walk each fan from an unvisited outgoing half-edge.
@@ -222,18 +225,20 @@ std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_pl
 }
 
 /// Quadric::minimizer with a closed-form fast path: when the smallest eigenvalue of A is surely
-/// above the pseudo-inverse's cut (det A > 10⁻³ (tr A)³ implies λ_min > 10⁻³ λ_max), the inverse
-/// gives the same point without an eigen-decomposition.
+/// above the pseudo-inverse's cut (λ_min ≥ det A / p₂ with p₂ the sum of the principal 2×2 minors,
+/// since p₂ ≥ λ_max·λ_mid, and λ_max ≤ tr A; so det A > 10⁻³ p₂ tr A implies λ_min > 10⁻³ λ_max),
+/// the inverse gives the same point without an eigen-decomposition.
 Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
   const double c00 = q.a11 * q.a22 - q.a12 * q.a12;
   const double c01 = q.a02 * q.a12 - q.a01 * q.a22;
   const double c02 = q.a01 * q.a12 - q.a02 * q.a11;
+  const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
+  const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
+  const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
   const double det = q.a00 * c00 + q.a01 * c01 + q.a02 * c02;
   const double trace = q.a00 + q.a11 + q.a22;
-  if (trace > 0 && det > 1e-3 * trace * trace * trace) {
-    const double c11 = q.a00 * q.a22 - q.a02 * q.a02;
-    const double c12 = q.a01 * q.a02 - q.a00 * q.a12;
-    const double c22 = q.a00 * q.a11 - q.a01 * q.a01;
+  const double minors = c00 + c11 + c22;
+  if (trace > 0 && minors > 0 && det > 1e-3 * minors * trace) {
     const double s = -1.0 / det;
     return {s * (c00 * q.b0 + c01 * q.b1 + c02 * q.b2), s * (c01 * q.b0 + c11 * q.b1 + c12 * q.b2),
             s * (c02 * q.b0 + c12 * q.b1 + c22 * q.b2)};
@@ -317,21 +322,27 @@ class Decimator {
     const bool interior_edge = h0 >= 0 && h1 >= 0;
     if (interior_edge && mesh_.boundary[a] && mesh_.boundary[b]) return false;
 
-    // Link condition: the common neighbours of a and b are exactly the opposite vertices.
+    // Link condition: the common neighbours of a and b are exactly the opposite vertices. One
+    // pass marks a's neighbours (stamp) and counts them; the pass over b's counts its neighbours
+    // (marking them stamp + 1) and the common ones.
     stamp_ += 2;
-    mesh_.for_each_neighbour(a, [&](int x) { mark_[x] = stamp_; });
+    const int seen_by_a = stamp_, seen_by_b = stamp_ + 1;
+    int valence_a = 0, valence_b = 0, common = 0;
     bool link_ok = true;
-    int common = 0;
+    mesh_.for_each_neighbour(a, [&](int x) {
+      if (mark_[x] != seen_by_a) { mark_[x] = seen_by_a; ++valence_a; }
+    });
     mesh_.for_each_neighbour(b, [&](int x) {
-      if (mark_[x] == stamp_) {
-        mark_[x] = stamp_ + 1;
+      if (mark_[x] == seen_by_b) return;
+      if (mark_[x] == seen_by_a) {
         ++common;
         if (x != left && x != right) link_ok = false;
       }
+      mark_[x] = seen_by_b;
+      ++valence_b;
     });
     if (!link_ok) return false;
     // A tetrahedron (closed, both valence 3) cannot lose a vertex and stay a surface.
-    const int valence_a = mesh_.valence(a), valence_b = mesh_.valence(b);
     if (interior_edge && valence_a == 3 && valence_b == 3) return false;
     if (options_.max_valence > 0 && valence_a + valence_b - 2 - common > options_.max_valence) return false;
 
@@ -481,6 +492,72 @@ class Decimator {
   double min_normal_cosine_ = -2;
 };
 
+/// A 4-ary min-heap of 8-byte entries: the four children of a node share a cache line, so a
+/// sift touches half as many lines as a binary heap's would (the queue holds millions).
+struct QueueEntry {
+  float cost;  // single precision: the key only orders; the collapse re-evaluates in double
+  int edge;    // canonical half-edge of the edge
+};
+
+class CollapseQueue {
+ public:
+  void reserve(std::size_t n) { entries_.reserve(n); }
+  bool empty() const { return entries_.empty(); }
+  /// Adds without ordering; call heapify() before the first pop.
+  void append(const QueueEntry& e) { entries_.push_back(e); }
+  void heapify() {
+    for (std::size_t i = entries_.size() / 4 + 1; i-- > 0;) sift_down(i);
+  }
+  void push(const QueueEntry& e) {
+    entries_.push_back(e);
+    std::size_t i = entries_.size() - 1;
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / 4;
+      if (!(e.cost < entries_[parent].cost)) break;
+      entries_[i] = entries_[parent];
+      i = parent;
+    }
+    entries_[i] = e;
+  }
+  const QueueEntry& top() const { return entries_.front(); }
+  /// The smallest key below the top (+∞ when the top is alone).
+  float runner_up_cost() const {
+    float best = std::numeric_limits<float>::infinity();
+    for (std::size_t c = 1; c < std::min<std::size_t>(5, entries_.size()); ++c) best = std::min(best, entries_[c].cost);
+    return best;
+  }
+  void pop() {
+    entries_.front() = entries_.back();
+    entries_.pop_back();
+    if (!entries_.empty()) sift_down(0);
+  }
+  /// Replaces the top entry by one with a key at least as large (a stale key re-evaluated).
+  void replace_top(const QueueEntry& e) {
+    entries_.front() = e;
+    sift_down(0);
+  }
+
+ private:
+  void sift_down(std::size_t i) {
+    const std::size_t n = entries_.size();
+    if (i >= n) return;
+    const QueueEntry moving = entries_[i];
+    while (true) {
+      const std::size_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::size_t best = first;
+      const std::size_t last = std::min(first + 4, n);
+      for (std::size_t c = first + 1; c < last; ++c)
+        if (entries_[c].cost < entries_[best].cost) best = c;
+      if (!(entries_[best].cost < moving.cost)) break;
+      entries_[i] = entries_[best];
+      i = best;
+    }
+    entries_[i] = moving;
+  }
+  std::vector<QueueEntry> entries_;
+};
+
 void check_options(const QemOptions& options) {
   if (options.target_faces < 0)
     throw InputError("decimate: target_faces must be >= 0, got " + std::to_string(options.target_faces));
@@ -540,61 +617,74 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
     result.max_collapse_error = std::max(result.max_collapse_error, c.cost);
     ++result.collapse_count;
     if (options.record_collapses) result.collapses.push_back(record);
+    return record;
   };
   auto done = [&] { return target > 0 && faces <= target; };
 
   if (options.candidates == 0) {
-    // Full priority queue: a binary min-heap of (cost, stored half-edge, version); an entry is
-    // stale when its edge's version moved on (every re-evaluation takes a fresh global stamp).
-    struct Entry { double cost; int stored; std::uint32_t version; };
-    auto later = [](const Entry& x, const Entry& y) { return x.cost > y.cost; };
-    std::vector<std::uint32_t> version(3 * static_cast<std::size_t>(face_slots), 0);
-    std::uint32_t clock = 0;
-    std::vector<Entry> heap;
+    // Full priority queue: a min-heap of (cost, canonical half-edge of the edge). Entries are not
+    // removed when their edge changes (lazy deletion): `queued` says whether the edge has a live
+    // entry (and whether that entry's key is stale); entries of dead or renamed edges are skipped.
+    enum : std::uint8_t { none = 0, current = 1, stale = 2 };
+    std::vector<std::uint8_t> queued(3 * static_cast<std::size_t>(face_slots), none);
+    CollapseQueue heap;
     {
-      std::vector<double> cost(3 * static_cast<std::size_t>(face_slots), kInfinity);
-      std::vector<int> stored(cost.size(), 0);
+      std::vector<float> cost(queued.size(), std::numeric_limits<float>::infinity());
       parallel_for_with_progress(3 * static_cast<Eigen::Index>(face_slots), progress.subrange(0.1, 0.2),
                                  "edge costs", [&](Eigen::Index h) {
-        if (mesh.canonical(static_cast<int>(h)) != h) return;
-        const Candidate c = decimator.evaluate(static_cast<int>(h));
-        cost[h] = c.cost;
-        stored[h] = c.halfedge;
+        if (mesh.canonical(static_cast<int>(h)) == h) cost[h] = static_cast<float>(decimator.evaluate(static_cast<int>(h)).cost);
       });
       heap.reserve(cost.size() / 2 + 16);
       for (std::size_t h = 0; h < cost.size(); ++h)
-        if (cost[h] < kInfinity) {
-          version[h] = ++clock;
-          heap.push_back({cost[h], stored[h], clock});
+        if (cost[h] < std::numeric_limits<float>::infinity()) {
+          queued[h] = current;
+          heap.append({cost[h], static_cast<int>(h)});
         }
-      std::make_heap(heap.begin(), heap.end(), later);
+      heap.heapify();
     }
-    auto edge_of = [&](int stored) { return mesh.canonical(stored >= 0 ? stored : ~stored); };
-    auto push_edge = [&](int h) {
-      const int e = mesh.canonical(h);
-      version[e] = ++clock;  // invalidates every older entry of this edge
-      const Candidate c = decimator.evaluate(e);
-      if (c.cost < kInfinity) {
-        heap.push_back({c.cost, c.halfedge, clock});
-        std::push_heap(heap.begin(), heap.end(), later);
-      }
+    auto push_edge = [&](int e) {
+      const double c = decimator.evaluate(e).cost;
+      queued[e] = c < kInfinity ? current : none;
+      if (c < kInfinity) heap.push({static_cast<float>(c), e});
+    };
+    // Lazy updates: a collapse only marks the queued edges around the kept vertex stale; a stale
+    // entry is re-evaluated when it reaches the top and sifted down in place. Quadrics only grow,
+    // so its old key is (nearly) a lower bound and the order is (nearly) that of eager updates.
+    auto touch_edge = [&](int e) {
+      if (queued[e] != none) queued[e] = stale;
+      else push_edge(e);
     };
     while (!done() && !heap.empty()) {
-      std::pop_heap(heap.begin(), heap.end(), later);
-      const Entry entry = heap.back();
-      heap.pop_back();
-      const int plain = entry.stored >= 0 ? entry.stored : ~entry.stored;
-      if (!mesh.face_alive[plain / 3] || version[edge_of(entry.stored)] != entry.version) continue;
-      if (entry.cost > max_error) break;
-      // Re-evaluate: the position depends only on the quadrics, which are current for this entry.
-      Candidate c = decimator.evaluate(edge_of(entry.stored));
+      const int e = heap.top().edge;
+      if (!mesh.face_alive[e / 3] || mesh.canonical(e) != e || queued[e] == none) {
+        heap.pop();
+        continue;
+      }
+      const Candidate c = decimator.evaluate(e);
+      // A stale key re-evaluated: back into the queue unless it is still the smallest.
+      if (queued[e] == stale && !(static_cast<float>(c.cost) <= heap.runner_up_cost())) {
+        queued[e] = c.cost < kInfinity ? current : none;
+        if (c.cost < kInfinity) heap.replace_top({static_cast<float>(c.cost), e});
+        else heap.pop();
+        continue;
+      }
+      heap.pop();
+      queued[e] = none;
+      if (c.cost > max_error) break;
       if (!(c.cost < kInfinity) || !decimator.is_admissible(c)) continue;  // re-queued when its ring changes
-      const int kept = decimator.resolve(c.halfedge).kept;
-      perform(c);
-      mesh.for_each_outgoing(kept, [&](int h) {
-        push_edge(h);
+      const CollapseRecord record = perform(c);
+      // The edges to left and right were glued from two: the twin that no longer names the edge
+      // loses its entry.
+      auto update = [&](int h, int other_end) {
+        const int edge = mesh.canonical(h);
+        if ((other_end == record.left || other_end == record.right) && mesh.opposite[edge] >= 0)
+          queued[mesh.opposite[edge]] = none;
+        touch_edge(edge);
+      };
+      mesh.for_each_outgoing(record.kept, [&](int h) {
+        update(h, mesh.to(h));
         const int incoming = prev_halfedge(h);
-        if (mesh.opposite[incoming] < 0) push_edge(incoming);
+        if (mesh.opposite[incoming] < 0) update(incoming, mesh.from(incoming));
       });
       report();
     }
