@@ -228,26 +228,32 @@ def test_selective_refinement_near_a_point():
     assert len(inside(Vs, Fs)) == len(inside(V, F))
     # refined only where asked: far from the point the mesh stays coarse
     far = lambda W: (np.linalg.norm(W - point, axis=1) > 2 * radius).sum()  # noqa: E731
-    assert far(Vs) < 0.15 * far(V)
-    assert len(Fs) < 0.4 * len(F)
+    assert far(Vs) < 0.05 * far(V)
+    assert len(Fs) < 0.15 * len(F)
     assert pm.level == pm.n_splits, "selective refinement leaves the current level alone"
 
 
 def test_selective_refinement_box_and_predicate_agree():
     V, F = datasets.torus(1.0, 0.35, 60, 24)
     pm = decimation.progressive_mesh(V, F)
-    box = ((1.0, -0.3, -1.0), (2.0, 0.3, 1.0))
+    box = ((0.5, -0.5, -1.0), (2.0, 0.5, 1.0))
     Vb, Fb = pm.refine_where(box=box)
-    Vp, Fp = pm.refine_where(lambda P: (P[:, 0] >= 1.0) & (np.abs(P[:, 1]) <= 0.3))
+    Vp, Fp = pm.refine_where(lambda P: (P[:, 0] >= 0.5) & (np.abs(P[:, 1]) <= 0.5))
     np.testing.assert_array_equal(Vb, Vp)
     np.testing.assert_array_equal(Fb, Fp)
     assert_valid(Vb, Fb, chi=0)
     in_box = np.all((V >= box[0]) & (V <= box[1]), axis=1)
     present = {tuple(v) for v in Vb.tolist()}
     assert all(tuple(v) in present for v in V[in_box].tolist())
-    assert len(Fb) < 0.6 * len(F)
+    assert len(Fb) < 0.45 * len(F)
     far = lambda W: (W[:, 0] < -0.3).sum()  # noqa: E731  (the opposite side of the ring)
-    assert far(Vb) < 0.4 * far(V)
+    assert far(Vb) < 0.1 * far(V)
+    # whole stars: also valid, with every selected vertex, and refined at least as much
+    Vw, Fw = pm.refine_where(box=box, whole_stars=True)
+    assert_valid(Vw, Fw, chi=0)
+    present = {tuple(v) for v in Vw.tolist()}
+    assert all(tuple(v) in present for v in V[in_box].tolist())
+    assert len(Fb) < len(Fw) < len(F)
     # nothing selected: the base mesh; everything: the full mesh
     pm.set_level(0)
     V0, F0 = pm.refine_where(lambda P: np.zeros(len(P), bool))
@@ -258,16 +264,19 @@ def test_selective_refinement_box_and_predicate_agree():
 
 
 @pytest.mark.parametrize("seed", range(4))
-def test_selective_refinement_of_random_regions_is_manifold(seed):
+@pytest.mark.parametrize("operator", ["edge", "halfedge"])
+@pytest.mark.parametrize("whole_stars", [False, True])
+def test_selective_refinement_of_random_regions_is_manifold(seed, operator, whole_stars):
     V, F = datasets.disk(10, 40)
     V = V + 0.03 * np.column_stack([np.zeros((len(V), 2)), np.random.default_rng(seed).standard_normal(len(V))])
-    pm = decimation.progressive_mesh(V, F)
+    pm = decimation.progressive_mesh(V, F, operator=operator)
     rng = np.random.default_rng(seed)
-    chosen = rng.random(len(V)) < 0.05
-    Vs, Fs = pm.refine_where(lambda P: chosen)
-    assert_valid(Vs, Fs, chi=1, n_boundary_loops=1)
-    present = {tuple(v) for v in Vs.tolist()}
-    assert all(tuple(v) in present for v in V[chosen].tolist())
+    for fraction in (0.01, 0.05, 0.2):
+        chosen = rng.random(len(V)) < fraction
+        Vs, Fs = pm.refine_where(lambda P: chosen, whole_stars=whole_stars)
+        assert_valid(Vs, Fs, chi=1, n_boundary_loops=1)
+        present = {tuple(v) for v in Vs.tolist()}
+        assert all(tuple(v) in present for v in V[chosen].tolist())
 
 
 # ---------------------------------------------------------------- bad input

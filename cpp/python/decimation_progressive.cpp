@@ -29,12 +29,13 @@ void bind_decimation_progressive(py::module_& m) {
       // Python threads sharing one ProgressiveMesh cannot race on it.
       .def("set_level", &ProgressiveMesh::set_level, py::arg("level"))
       .def("current_mesh", [](const ProgressiveMesh& pm) { return mesh_to_python(pm.current_mesh()); })
-      .def("selective_refinement", [](const ProgressiveMesh& pm, const py::array_t<bool, py::array::c_style | py::array::forcecast>& selected) {
+      .def("selective_refinement", [](const ProgressiveMesh& pm, const py::array_t<bool, py::array::c_style | py::array::forcecast>& selected,
+                                      bool whole_stars) {
         if (selected.ndim() != 1)
           throw InputError("selective refinement: the selection must be one flag per vertex, shape (n,)");
         std::vector<char> flags(selected.data(), selected.data() + selected.shape(0));
-        return mesh_to_python(without_gil([&] { return pm.selective_refinement(flags); }));
-      }, py::arg("selected"))
+        return mesh_to_python(without_gil([&] { return pm.selective_refinement(flags, whole_stars); }));
+      }, py::arg("selected"), py::arg("whole_stars") = false)
       .def_property_readonly("full_positions", [](const ProgressiveMesh& pm) {
         return to_numpy(VertexMatrix(pm.full_positions()));
       })

@@ -278,7 +278,8 @@ class ProgressiveMesh:
         self._pm.set_level(self.level_for_face_count(n_faces))
         return self._pm.current_mesh()
 
-    def refine_where(self, predicate=None, *, near=None, radius=None, box=None) -> tuple[np.ndarray, np.ndarray]:
+    def refine_where(self, predicate=None, *, near=None, radius=None, box=None,
+                     whole_stars: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Selective refinement (§4.3): full detail where asked, the base mesh elsewhere.
 
         The region is given by exactly one of
@@ -287,9 +288,14 @@ class ProgressiveMesh:
         near, radius: the vertices within ``radius`` of the point ``near``;
         box: ((xmin, ymin, zmin), (xmax, ymax, zmax)), the vertices inside the box.
         Every vertex split that involves a selected vertex is applied, together with the
-        splits it depends on (those that create its vertices and the faces around its edge: the
-        legality test of §4.3, taken over the whole neighbourhood), so the result is always a
-        valid manifold mesh and every selected vertex is present at its input position.
+        splits it depends on. By default these follow the legality test of §4.3 (Hoppe 1997): a
+        split needs its vertex v_s active and the faces beside its edges to v_l and v_r present;
+        v_l and v_r are the fundamental cut vertices, found as whatever vertices sit at their
+        place, so few splits are forced. ``whole_stars=True`` forces instead the splits that
+        created every vertex and face around the split edge (each split then meets exactly its
+        recorded neighbourhood; more refinement around the region); it is also the fallback
+        should a legal split ever fail the manifold check. Either way the result is a valid
+        manifold mesh and every selected vertex is present at its input position.
         Independent of (and not changing) the current level. Returns (V, F).
         Raises InputError for a bad region or a predicate that does not return (n,) booleans.
         """
@@ -312,7 +318,7 @@ class ProgressiveMesh:
             if bounds.shape != (2, 3) or np.isnan(bounds).any():
                 raise InputError("refine_where: box must be ((xmin, ymin, zmin), (xmax, ymax, zmax))")
             selected = np.all((P >= bounds[0]) & (P <= bounds[1]), axis=1)
-        return self._pm.selective_refinement(selected)
+        return self._pm.selective_refinement(selected, bool(whole_stars))
 
     def __repr__(self) -> str:
         low, high = self.face_range

@@ -74,42 +74,38 @@ bool is_single_fan(const FaceMatrix& faces, const std::vector<int>& around, int 
   return seen == n;
 }
 
-/// The faces around `kept` that vertex split (kept, left, right) hands to the new vertex: from
-/// the face (kept, left, ·) counter-clockwise to the face (kept, ·, right), completed from the
-/// start of the fan when the walk from `left` reaches the boundary first (§4.3 and the
-/// CollapseRecord convention). Throws when left/right are not where the split needs them.
-std::vector<int> split_fan(const FaceMatrix& faces, const std::vector<int>& around, int kept, int left, int right,
-                           Eigen::Index k) {
-  std::vector<int> fan;
+/// The wedge of faces around `kept` from face `first` counter-clockwise to face `last`, completed
+/// from the start of the fan when the walk from `first` reaches the boundary first; an absent end
+/// is −1 (the wedge then runs to the boundary). These are the faces a vertex split hands to the
+/// new vertex (§4.3 and the CollapseRecord convention). False if they do not form such a wedge.
+bool walk_wedge(const FaceMatrix& faces, const std::vector<int>& around, int kept, int first, int last,
+                std::vector<int>& fan) {
+  fan.clear();
   const std::size_t limit = around.size();
-  bool reached_right = false;
-  if (left >= 0) {
-    int f = find_face(faces, around, kept, left, true);
-    if (f < 0 && find_face(faces, around, kept, left, false) < 0)
-      throw InputError(split_name(k) + ": v_l " + std::to_string(left) + " is not a neighbour of v_s " +
-                       std::to_string(kept));
-    while (f >= 0 && !reached_right) {
-      if (fan.size() > limit) throw InputError(split_name(k) + ": the faces around v_s do not form a fan");
-      fan.push_back(f);
-      const int prev = faces(f, (corner_of(faces, f, kept) + 2) % 3);
-      reached_right = prev == right;
-      if (!reached_right) f = find_face(faces, around, kept, prev, true);
-    }
+  bool reached_last = false;
+  for (int f = first; f >= 0 && !reached_last;) {
+    if (fan.size() >= limit) return false;
+    fan.push_back(f);
+    reached_last = f == last;
+    if (!reached_last) f = find_face(faces, around, kept, faces(f, (corner_of(faces, f, kept) + 2) % 3), true);
   }
-  if (right >= 0 && !reached_right) {
-    int f = find_face(faces, around, kept, right, false);
-    if (f < 0 && find_face(faces, around, kept, right, true) < 0)
-      throw InputError(split_name(k) + ": v_r " + std::to_string(right) + " is not a neighbour of v_s " +
-                       std::to_string(kept));
-    while (f >= 0) {
-      if (fan.size() > limit || std::find(fan.begin(), fan.end(), f) != fan.end())
-        throw InputError(split_name(k) + ": the faces around v_s do not form a fan");
+  if (last >= 0 && !reached_last)
+    for (int f = last; f >= 0;) {
+      if (fan.size() >= limit || std::find(fan.begin(), fan.end(), f) != fan.end()) return false;
       fan.push_back(f);
-      const int next = faces(f, (corner_of(faces, f, kept) + 1) % 3);
-      f = find_face(faces, around, kept, next, false);
+      f = find_face(faces, around, kept, faces(f, (corner_of(faces, f, kept) + 1) % 3), false);
     }
-  }
-  return fan;
+  return true;
+}
+
+/// The faces around v at a vertex split: the first and last faces of the wedge, (kept, left, ·)
+/// and (kept, ·, right), and kept's own faces across the edges to left and right, (kept, ·, left)
+/// and (kept, right, ·). −1 where absent. Hoppe's fn0..fn3 plus the wedge ends.
+std::array<int, 4> wedge_faces(const FaceMatrix& faces, const std::vector<int>& around, int kept, int left, int right) {
+  const auto at = [&](int neighbour, bool want_next) {
+    return neighbour >= 0 ? find_face(faces, around, kept, neighbour, want_next) : -1;
+  };
+  return {at(left, true), at(right, false), at(left, false), at(right, true)};
 }
 
 void check_finite(const Eigen::Vector3d& p, Eigen::Index k) {
@@ -160,6 +156,7 @@ ProgressiveMesh::ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::ve
   kept_before_.resize(n_splits);
   change_offsets_.assign(1, 0);
   dependency_offsets_.assign(1, 0);
+  legality_offsets_.assign(1, 0);
   std::vector<int> star_dependencies;
   for (Eigen::Index k = 0; k < n_splits; ++k) {
     const VertexSplit& s = splits_[k];
@@ -174,7 +171,14 @@ ProgressiveMesh::ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::ve
     check_finite(s.removed_position, k);
     check_finite(s.kept_position, k);
 
-    const std::vector<int> fan = split_fan(state.faces, around[s.kept], s.kept, s.left, s.right, k);
+    const std::array<int, 4> wedge = wedge_faces(state.faces, around[s.kept], s.kept, s.left, s.right);
+    if ((s.left >= 0 && wedge[0] < 0 && wedge[2] < 0) || (s.right >= 0 && wedge[1] < 0 && wedge[3] < 0))
+      throw InputError(split_name(k) + ": v_l " + std::to_string(s.left) + " or v_r " + std::to_string(s.right) +
+                       " is not a neighbour of v_s " + std::to_string(s.kept));
+    std::vector<int> fan;
+    if (!walk_wedge(state.faces, around[s.kept], s.kept, wedge[0], wedge[1], fan))
+      throw InputError(split_name(k) + ": the faces around v_s do not form a fan");
+    wedge_faces_.push_back(wedge);
     for (int f : fan) {
       const int c = corner_of(state.faces, f, s.kept);
       state.faces(f, c) = removed;
@@ -214,6 +218,13 @@ ProgressiveMesh::ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::ve
     for (int d : star_dependencies)
       if (d >= 0 && d < k) dependencies_.push_back(d);
     dependency_offsets_.push_back(static_cast<int>(dependencies_.size()));
+    // Hoppe's legality: v_s active (its creation and earlier splits) and the wedge faces present.
+    star_dependencies.assign({last_split[s.kept], vertex_creator[s.kept]});
+    for (int f : wedge)
+      if (f >= 0) star_dependencies.push_back(face_creator[f]);
+    for (int d : star_dependencies)
+      if (d >= 0 && d < k) legality_dependencies_.push_back(d);
+    legality_offsets_.push_back(static_cast<int>(legality_dependencies_.size()));
     last_split[s.kept] = static_cast<int>(k);
   }
   level_ = n_splits;
@@ -293,29 +304,93 @@ Mesh ProgressiveMesh::current_mesh() const {
   return extract(current_, vertex_active, face_active);
 }
 
-Mesh ProgressiveMesh::selective_refinement(const std::vector<char>& selected_input_vertices) const {
+std::vector<char> ProgressiveMesh::dependency_closure(std::vector<char> applied, const std::vector<int>& offsets,
+                                                     const std::vector<int>& dependencies) const {
+  // Dependencies point to earlier splits: one backward pass closes the set.
+  for (Eigen::Index k = split_count() - 1; k >= 0; --k)
+    if (applied[k])
+      for (int i = offsets[k]; i < offsets[k + 1]; ++i) applied[dependencies[i]] = 1;
+  return applied;
+}
+
+bool ProgressiveMesh::apply_split_at_cut(State& state, std::vector<std::vector<int>>& around, Eigen::Index k) const {
+  const VertexSplit& s = splits_[k];
+  const int removed = static_cast<int>(base_V_.rows() + k);
+  const std::array<int, 4>& wedge = wedge_faces_[k];
+  for (int f : wedge)
+    if (f >= 0 && std::find(around[s.kept].begin(), around[s.kept].end(), f) == around[s.kept].end()) return false;
+  const auto neighbour = [&](int f, int step) { return state.faces(f, (corner_of(state.faces, f, s.kept) + step) % 3); };
+  // The fundamental cut vertices: whatever vertices now sit where v_l and v_r were recorded.
+  const int left = s.left < 0 ? -1 : wedge[0] >= 0 ? neighbour(wedge[0], 1) : neighbour(wedge[2], 2);
+  const int right = s.right < 0 ? -1 : wedge[1] >= 0 ? neighbour(wedge[1], 2) : neighbour(wedge[3], 1);
+  if (left >= 0 && left == right) return false;
+  std::vector<int> fan;
+  if (!walk_wedge(state.faces, around[s.kept], s.kept, wedge[0], wedge[1], fan)) return false;
+  for (int f : fan) {
+    state.faces(f, corner_of(state.faces, f, s.kept)) = removed;
+    erase_face(around[s.kept], f);
+    around[removed].push_back(f);
+  }
+  Eigen::Index f = face_begin_[k];
+  const auto add_face = [&](int a, int b, int c) {
+    state.faces.row(f) << a, b, c;
+    for (int v : {a, b, c}) around[v].push_back(static_cast<int>(f));
+    ++f;
+  };
+  if (left >= 0) add_face(removed, s.kept, left);
+  if (right >= 0) add_face(s.kept, removed, right);
+  state.positions.row(s.kept) = s.kept_position.transpose();
+  state.positions.row(removed) = s.removed_position.transpose();
+  for (int v : {s.kept, removed, left, right})
+    if (v >= 0 && !is_single_fan(state.faces, around[v], v)) return false;
+  return true;
+}
+
+Mesh ProgressiveMesh::selective_refinement(const std::vector<char>& selected_input_vertices, bool whole_stars) const {
   const Eigen::Index n_base = base_V_.rows(), n_splits = split_count();
   if (static_cast<Eigen::Index>(selected_input_vertices.size()) != n_base + n_splits)
     throw InputError("selective refinement: " + std::to_string(selected_input_vertices.size()) +
                      " selection flags for " + std::to_string(n_base + n_splits) + " vertices");
-  std::vector<char> applied(n_splits, 0);
+  std::vector<char> wanted(n_splits, 0);
   for (Eigen::Index k = 0; k < n_splits; ++k)
-    applied[k] = selected_input_vertices[input_vertex_id_[splits_[k].kept]] ||
-                 selected_input_vertices[input_vertex_id_[n_base + k]];
-  // Dependencies point to earlier splits: one backward pass closes the set.
-  for (Eigen::Index k = n_splits - 1; k >= 0; --k)
-    if (applied[k])
-      for (int i = dependency_offsets_[k]; i < dependency_offsets_[k + 1]; ++i) applied[dependencies_[i]] = 1;
-  State state = base_state();
+    wanted[k] = selected_input_vertices[input_vertex_id_[splits_[k].kept]] ||
+                selected_input_vertices[input_vertex_id_[n_base + k]];
   std::vector<char> vertex_active(n_base + n_splits, 0), face_active(face_begin_.back(), 0);
-  std::fill_n(vertex_active.begin(), n_base, 1);
-  std::fill_n(face_active.begin(), face_count(0), 1);
-  for (Eigen::Index k = 0; k < n_splits; ++k)
-    if (applied[k]) {
-      apply_split(state, k);
-      vertex_active[n_base + k] = 1;
-      std::fill(face_active.begin() + face_begin_[k], face_active.begin() + face_begin_[k + 1], 1);
+  const auto activate = [&](const std::vector<char>& applied) {
+    std::fill(vertex_active.begin(), vertex_active.end(), 0);
+    std::fill(face_active.begin(), face_active.end(), 0);
+    std::fill_n(vertex_active.begin(), n_base, 1);
+    std::fill_n(face_active.begin(), face_count(0), 1);
+    for (Eigen::Index k = 0; k < n_splits; ++k)
+      if (applied[k]) {
+        vertex_active[n_base + k] = 1;
+        std::fill(face_active.begin() + face_begin_[k], face_active.begin() + face_begin_[k + 1], 1);
+      }
+  };
+
+  // First Hoppe's legality test (v_s and the wedge faces present; v_l, v_r found as the vertices
+  // now at their place): few forced splits, each one checked to keep the mesh manifold.
+  if (!whole_stars) {
+    const std::vector<char> applied = dependency_closure(wanted, legality_offsets_, legality_dependencies_);
+    State state = base_state();
+    std::vector<std::vector<int>> around(n_base + n_splits);
+    for (Eigen::Index f = 0; f < base_F_.rows(); ++f)
+      for (int c = 0; c < 3; ++c) around[base_F_(f, c)].push_back(static_cast<int>(f));
+    bool valid = true;
+    for (Eigen::Index k = 0; k < n_splits && valid; ++k)
+      if (applied[k]) valid = apply_split_at_cut(state, around, k);
+    if (valid) {
+      activate(applied);
+      return extract(state, vertex_active, face_active);
     }
+  }
+  // Otherwise the closure over whole stars, under which every split meets exactly the
+  // neighbourhood it was recorded in (always valid).
+  const std::vector<char> applied = dependency_closure(wanted, dependency_offsets_, dependencies_);
+  State state = base_state();
+  for (Eigen::Index k = 0; k < n_splits; ++k)
+    if (applied[k]) apply_split(state, k);
+  activate(applied);
   return extract(state, vertex_active, face_active);
 }
 

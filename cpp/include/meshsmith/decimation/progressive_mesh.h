@@ -16,6 +16,7 @@
 #include <meshsmith/decimation/collapse_record.h>
 #include <meshsmith/decimation/decimate.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -60,13 +61,17 @@ class ProgressiveMesh {
   Mesh current_mesh() const;
 
   /// Selective refinement (§4.3): the mesh in which every vertex split touching a selected input
-  /// vertex (as v_s or as the new vertex) is applied, with every split it depends on forced
-  /// first: the split that created v_s and v_s's earlier splits, and the splits that created the
-  /// vertices and faces around the split edge, so each split meets exactly the neighbourhood it
-  /// was recorded in (Hoppe's legality test, taken over whole stars) and the result is a valid
-  /// manifold mesh. Vertices in input order. Independent of the current level.
+  /// vertex (as v_s or as the new vertex) is applied, with the splits it depends on forced first.
+  /// Default: Hoppe's legality test — a split needs v_s active (the split that created it and its
+  /// earlier splits applied) and its wedge faces present (the faces on both sides of the edges to
+  /// v_l and v_r); v_l and v_r themselves are the fundamental cut vertices, i.e. whatever vertices
+  /// now sit at their place, so they need not be forced. Every such split is checked to keep the
+  /// mesh manifold; should one fail, or with `whole_stars`, the dependencies are taken over whole
+  /// stars instead (the splits that created every vertex and face around the split edge), so each
+  /// split meets exactly the neighbourhood it was recorded in: always valid, more refinement.
+  /// The result is a valid manifold mesh, vertices in input order. Independent of the current level.
   /// \throw InputError if `selected_input_vertices` does not have one entry per input vertex.
-  Mesh selective_refinement(const std::vector<char>& selected_input_vertices) const;
+  Mesh selective_refinement(const std::vector<char>& selected_input_vertices, bool whole_stars = false) const;
 
   /// Positions at the full level in input order (the input V): what selection predicates see.
   const VertexMatrix& full_positions() const { return full_positions_; }
@@ -85,6 +90,11 @@ class ProgressiveMesh {
   void apply_split(State& state, Eigen::Index k) const;
   void undo_split(State& state, Eigen::Index k) const;
   Mesh extract(const State& state, const std::vector<char>& vertex_active, const std::vector<char>& face_active) const;
+  std::vector<char> dependency_closure(std::vector<char> applied, const std::vector<int>& offsets,
+                                       const std::vector<int>& dependencies) const;
+  /// Split k where its wedge faces are, with the vertices found there (selective refinement);
+  /// false if that would not be a valid manifold split (the state is then unusable).
+  bool apply_split_at_cut(State& state, std::vector<std::vector<int>>& around, Eigen::Index k) const;
 
   VertexMatrix base_V_;
   FaceMatrix base_F_;
@@ -95,7 +105,9 @@ class ProgressiveMesh {
   std::vector<Eigen::Index> face_begin_;        // #splits+1: faces at each level
   std::vector<Eigen::Vector3d> kept_before_;    // position of v_s before split k (undo target)
   std::vector<int> change_offsets_, change_corners_;  // CSR: corners 3f+c that split k turns v_s → v_new
-  std::vector<int> dependency_offsets_, dependencies_;  // CSR: splits that split k depends on
+  std::vector<int> dependency_offsets_, dependencies_;  // CSR: splits whose stars split k needs (strong)
+  std::vector<int> legality_offsets_, legality_dependencies_;  // CSR: Hoppe's legality (v_s, wedge faces)
+  std::vector<std::array<int, 4>> wedge_faces_;  // first/last wedge face, v_s's faces across v_l, v_r
   VertexMatrix full_positions_;
   State current_;
   Eigen::Index level_ = 0;
