@@ -40,6 +40,16 @@ def main():
                lambda: (pm.at(len(F) // 10), pm.at(len(F))))
     bench.report()
 
+    bench = Benchmark("decimation_progressive", f"selective refinement within 0.3 of a point, {len(F):,}-face torus",
+                      repeats=3, reference="legality (default)")
+    point = V[0]
+    bench.time("legality (default)", lambda: pm.refine_where(near=point, radius=0.3))
+    bench.time("whole stars", lambda: pm.refine_where(near=point, radius=0.3, whole_stars=True))
+    bench.report()
+    for whole_stars in (False, True):
+        faces = len(pm.refine_where(near=point, radius=0.3, whole_stars=whole_stars)[1])
+        print(f"  whole_stars={whole_stars}: {faces:,} faces")
+
     bench = Benchmark("decimation_progressive", f"get the 10% level of a {len(F):,}-face torus", repeats=3,
                       reference="pm.at(10%) from full")
     bench.time("pm.at(10%) from full", lambda: (pm.set_level(full), pm.at(len(F) // 10)))
