@@ -270,22 +270,15 @@ class Decimator {
   /// The best collapse of the edge of half-edge h (either direction, as the operator and the
   /// boundary rule allow); cost = ∞ when none is allowed.
   Candidate evaluate(int h) const {
-    const int o = mesh_.opposite[h];
     const int u = mesh_.from(h), v = mesh_.to(h);
-    bool u_may_go = true, v_may_go = true;  // may u (v) be the removed vertex?
-    if (options_.keep_boundary) {
-      const bool ub = mesh_.boundary[u], vb = mesh_.boundary[v];
-      if (o >= 0 && ub && vb) return {};  // an interior edge between two boundary vertices
-      if (ub && !vb) u_may_go = false;
-      if (vb && !ub) v_may_go = false;
-    }
+    bool u_may_go, v_may_go;  // may u (v) be the removed vertex?
+    if (!removable_ends(h, u_may_go, v_may_go)) return {};
     if (options_.collapse == CollapseOperator::halfedge || !(u_may_go && v_may_go)) {
       Candidate best;
-      if (u_may_go) best = {cost_of(u, v, mesh_.position[v]), h, mesh_.position[v]};
+      if (u_may_go) best = endpoint_candidate(h, false);
       if (v_may_go) {
-        const double c = cost_of(v, u, mesh_.position[u]);
-        // A boundary edge has no twin to name the reversed collapse: it is stored as ~h.
-        if (c < best.cost) best = {c, o >= 0 ? o : ~h, mesh_.position[u]};
+        const Candidate reversed = endpoint_candidate(h, true);
+        if (reversed.cost < best.cost) best = reversed;
       }
       return best;
     }
@@ -397,6 +390,26 @@ class Decimator {
   std::vector<int> died;
 
  private:
+  /// Which ends of the edge of h may be removed (keep_boundary: a boundary vertex only along a
+  /// boundary edge, into a boundary vertex); false when the edge may not collapse at all.
+  bool removable_ends(int h, bool& u_may_go, bool& v_may_go) const {
+    u_may_go = v_may_go = true;
+    if (!options_.keep_boundary) return true;
+    const bool ub = mesh_.boundary[mesh_.from(h)], vb = mesh_.boundary[mesh_.to(h)];
+    if (mesh_.opposite[h] >= 0 && ub && vb) return false;  // an interior edge between two boundary vertices
+    u_may_go = !ub || vb;
+    v_may_go = !vb || ub;
+    return true;
+  }
+
+  /// The half-edge collapse of h's edge that removes from(h) (reversed: to(h)) into the other end.
+  Candidate endpoint_candidate(int h, bool reversed) const {
+    const int u = mesh_.from(h), v = mesh_.to(h), o = mesh_.opposite[h];
+    if (!reversed) return {cost_of(u, v, mesh_.position[v]), h, mesh_.position[v]};
+    // A boundary edge has no twin to name the reversed collapse: it is stored as ~h.
+    return {cost_of(v, u, mesh_.position[u]), o >= 0 ? o : ~h, mesh_.position[u]};
+  }
+
   /// Removes the face of half-edge h (whose start vertex now reads `kept`), gluing the twins of
   /// its two other sides together and repointing the vertices' outgoing half-edges.
   void remove_face(int h, int kept) {
@@ -622,11 +635,13 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   auto done = [&] { return target > 0 && faces <= target; };
 
   if (options.candidates == 0) {
-    // Full priority queue: a min-heap of (cost, canonical half-edge of the edge). Entries are not
-    // removed when their edge changes (lazy deletion): `queued` says whether the edge has a live
-    // entry (and whether that entry's key is stale); entries of dead or renamed edges are skipped.
-    enum : std::uint8_t { none = 0, current = 1, stale = 2 };
-    std::vector<std::uint8_t> queued(3 * static_cast<std::size_t>(face_slots), none);
+    // Full priority queue: a min-heap of (cost, canonical half-edge of the edge) with lazy
+    // deletion and lazy re-evaluation (Lindstrom & Turk style): a collapse does not touch the
+    // queue entries of the edges around the kept vertex; every entry is re-evaluated when it
+    // reaches the top and goes back in if its cost now exceeds the next key. Quadrics only grow,
+    // so an old key is (nearly) a lower bound and the order is (nearly) that of eager updates.
+    // `queued` says whether an edge has an entry; entries of dead or renamed edges are skipped.
+    std::vector<std::uint8_t> queued(3 * static_cast<std::size_t>(face_slots), 0);
     CollapseQueue heap;
     {
       std::vector<float> cost(queued.size(), std::numeric_limits<float>::infinity());
@@ -637,49 +652,37 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       heap.reserve(cost.size() / 2 + 16);
       for (std::size_t h = 0; h < cost.size(); ++h)
         if (cost[h] < std::numeric_limits<float>::infinity()) {
-          queued[h] = current;
+          queued[h] = 1;
           heap.append({cost[h], static_cast<int>(h)});
         }
       heap.heapify();
     }
     auto push_edge = [&](int e) {
       const double c = decimator.evaluate(e).cost;
-      queued[e] = c < kInfinity ? current : none;
+      queued[e] = c < kInfinity;
       if (c < kInfinity) heap.push({static_cast<float>(c), e});
-    };
-    // Lazy updates: a collapse only marks the queued edges around the kept vertex stale; a stale
-    // entry is re-evaluated when it reaches the top and sifted down in place. Quadrics only grow,
-    // so its old key is (nearly) a lower bound and the order is (nearly) that of eager updates.
-    auto touch_edge = [&](int e) {
-      if (queued[e] != none) queued[e] = stale;
-      else push_edge(e);
     };
     while (!done() && !heap.empty()) {
       const int e = heap.top().edge;
-      if (!mesh.face_alive[e / 3] || mesh.canonical(e) != e || queued[e] == none) {
+      if (!mesh.face_alive[e / 3] || mesh.canonical(e) != e || !queued[e]) {
         heap.pop();
         continue;
       }
       const Candidate c = decimator.evaluate(e);
-      // A stale key re-evaluated: back into the queue unless it is still the smallest.
-      if (queued[e] == stale && !(static_cast<float>(c.cost) <= heap.runner_up_cost())) {
-        queued[e] = c.cost < kInfinity ? current : none;
-        if (c.cost < kInfinity) heap.replace_top({static_cast<float>(c.cost), e});
-        else heap.pop();
+      if (c.cost < kInfinity && static_cast<float>(c.cost) > heap.runner_up_cost()) {
+        heap.replace_top({static_cast<float>(c.cost), e});  // its cost grew: not the cheapest now
         continue;
       }
       heap.pop();
-      queued[e] = none;
+      queued[e] = 0;
       if (c.cost > max_error) break;
       if (!(c.cost < kInfinity) || !decimator.is_admissible(c)) continue;  // re-queued when its ring changes
       const CollapseRecord record = perform(c);
-      // The edges to left and right were glued from two: the twin that no longer names the edge
-      // loses its entry.
+      // Edges around the kept vertex without an entry (rejected before) get one; the edges to
+      // left and right were glued from two and may be named by a new half-edge: a fresh entry.
       auto update = [&](int h, int other_end) {
         const int edge = mesh.canonical(h);
-        if ((other_end == record.left || other_end == record.right) && mesh.opposite[edge] >= 0)
-          queued[mesh.opposite[edge]] = none;
-        touch_edge(edge);
+        if (!queued[edge] || other_end == record.left || other_end == record.right) push_edge(edge);
       };
       mesh.for_each_outgoing(record.kept, [&](int h) {
         update(h, mesh.to(h));
