@@ -187,6 +187,22 @@ def test_unreferenced_vertices_are_ignored():
     assert b.vertex_cluster[-1] == -1
 
 
+@pytest.mark.parametrize("name", ["stanford-bunny.obj", "plane_holes.obj", "cubes_complex_edge.obj",
+                                  "cubes_complex_vertex.obj", "fandisk.obj"])
+def test_shared_meshes(data_dir, name):
+    # holes, unreferenced vertices, non-manifold input: clustering takes them all
+    V, F = meshsmith.io.read_mesh(data_dir / name)
+    for representative in decimation.CLUSTER_REPRESENTATIVES:
+        result = decimation.cluster(V, F, target_vertices=max(8, len(V) // 30), representative=representative)
+        assert 0 < len(result.F) and np.isfinite(result.V).all()
+        assert result.F.max() < len(result.V)
+        assert result.is_manifold == topology.is_manifold(result.F)
+        assert len(result.V) <= max(8, len(V) // 30)
+        box_low, box_high = V.min(axis=0), V.max(axis=0)
+        slack = result.cell_size * 1.001
+        assert (result.V >= box_low - slack).all() and (result.V <= box_high + slack).all()
+
+
 # ---------------------------------------------------------------- bad input
 
 def test_bad_input():

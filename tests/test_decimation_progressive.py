@@ -117,13 +117,29 @@ def test_stop_rule_gives_the_base_mesh():
     assert len(Fd) == 200
 
 
-def test_real_mesh(data_dir):
-    V, F = meshsmith.io.read_mesh(data_dir / "bunny.off")
-    pm = decimation.progressive_mesh(V, F, ratio=0.02)
-    for n in (pm.face_range[0], 500, 2000, len(F)):
-        Vl, Fl = pm.at(n)
-        assert_valid(Vl, Fl, chi=2)
+@pytest.mark.parametrize("name", ["bunny.off", "fandisk.obj", "plane_holes.obj", "stanford-bunny.obj",
+                                  "camelhead.off", "fertility.off"])
+def test_shared_meshes(data_dir, name):
+    # with boundaries, holes, unreferenced vertices (stanford-bunny) and genus 4 (fertility)
+    V, F = meshsmith.io.read_mesh(data_dir / name)
+    chi, loops = topology.euler_characteristic(F), len(topology.boundary_loops(F))
+    pm = decimation.progressive_mesh(V, F)
+    for n in (pm.face_range[0], len(F) // 100, len(F) // 10, len(F) // 2):
+        Vl, Fl = pm.at(max(n, pm.face_range[0]))
+        assert_valid(Vl, Fl, chi=chi, n_boundary_loops=loops)
+    pm.set_level(pm.n_splits)
     np.testing.assert_array_equal(pm.mesh()[0], V)
+    np.testing.assert_array_equal(canonical_faces(pm.mesh()[1]), canonical_faces(F))
+    diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
+    Vs, Fs = pm.refine_where(near=V[F[0, 0]], radius=0.1 * diagonal)
+    assert_valid(Vs, Fs, chi=chi, n_boundary_loops=loops)
+
+
+@pytest.mark.parametrize("name", ["cubes_complex_edge.obj", "cubes_complex_vertex.obj"])
+def test_non_manifold_shared_meshes_are_rejected(data_dir, name):
+    V, F = meshsmith.io.read_mesh(data_dir / name)
+    with pytest.raises(meshsmith.InputError, match="not manifold"):
+        decimation.progressive_mesh(V, F)
 
 
 # ---------------------------------------------------------------- file format
