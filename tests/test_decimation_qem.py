@@ -257,3 +257,40 @@ def test_progress_and_cancellation():
     assert fractions and fractions[-1] == 1.0 and all(0 <= f <= 1 for f in fractions)
     with pytest.raises(meshsmith.Cancelled):
         decimation.decimate(V, F, ratio=0.1, progress=lambda fraction, stage: fraction < 0.3)
+
+
+# --- quality against libigl's qslim and fast_simplification ------------------------------------
+
+QUALITY_MESHES = ["armadillo.obj", "pmp-bunny.off", "nefertiti-lowres.obj", "fandisk.obj", "bumpy-cube.obj"]
+
+
+@pytest.fixture(scope="module")
+def quality_table(data_dir):
+    """{(mesh, ratio): (meshsmith, qslim, fast_simplification)} relative Hausdorff distances."""
+    igl = pytest.importorskip("igl")
+    fast_simplification = pytest.importorskip("fast_simplification")
+    table = {}
+    for name in QUALITY_MESHES:
+        V, F = io.read_mesh(data_dir / name)
+        for ratio in (0.1, 0.01):
+            target = int(round(ratio * len(F)))
+            ours = decimation.decimate(V, F, target_faces=target)
+            qslim = igl.qslim(V, np.asfortranarray(F, dtype=np.int32), target)[:2]
+            fast = fast_simplification.simplify(V, F, target_count=target)
+            table[name, ratio] = tuple(relative_hausdorff(V, F, np.asarray(W, float), np.asarray(G))
+                                       for W, G in (ours, qslim, fast))
+            assert len(ours[1]) <= target and topology.is_manifold(ours[1])
+    return table
+
+
+def test_quality_no_worse_than_qslim_and_fast_simplification(quality_table):
+    ratios = []
+    for (name, ratio), (ours, qslim, fast) in quality_table.items():
+        best_peer = min(qslim, fast)
+        ratios.append(ours / best_peer)
+        # Per case within 20% of the better peer: the Hausdorff distance is a maximum over the
+        # surface, so one unlucky collapse moves it; measured worst case +19% (nefertiti at 1%,
+        # where qslim is 0.0073 and fast_simplification 0.0107 of the diagonal).
+        assert ours <= 1.2 * best_peer, (name, ratio, ours, qslim, fast)
+    # And on the whole at least as good as the better peer of each case (geometric mean).
+    assert np.exp(np.mean(np.log(ratios))) <= 1.0

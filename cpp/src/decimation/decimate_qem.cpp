@@ -558,6 +558,12 @@ class CollapseQueue {
     while (true) {
       const std::size_t first = 4 * i + 1;
       if (first >= n) break;
+      // The grandchildren (16 entries, two cache lines) are fetched while the children compare.
+      const std::size_t grandchildren = 4 * first + 1;
+      if (grandchildren < n) {
+        __builtin_prefetch(entries_.data() + grandchildren);
+        __builtin_prefetch(entries_.data() + std::min(grandchildren + 8, n - 1));
+      }
       std::size_t best = first;
       const std::size_t last = std::min(first + 4, n);
       for (std::size_t c = first + 1; c < last; ++c)

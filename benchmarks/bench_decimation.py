@@ -1,0 +1,163 @@
+"""Decimation (§4.2): meshsmith's QEM decimate vs fast_simplification, libigl's decimate/qslim,
+open3d's simplify_quadric_decimation and pymeshlab's quadric edge collapse (those installed).
+
+1. Speed: a 1,310,720-face sphere (datasets.icosphere(8), slightly bumped so costs differ) to 10%
+   for the fast decimators; libigl on an 81,920-face sphere (icosphere(6)) beside meshsmith on the
+   same input (libigl takes minutes at 1.3M faces; run with --full to include it anyway).
+2. Peak memory of each method on the 1.3M-face input: one subprocess per method, the increase of
+   VmHWM (peak resident set, /proc/self/status) over the level after loading the input — this
+   sees C++ allocations, which tracemalloc does not.
+3. Quality: symmetric Hausdorff distance (vertices + 4 samples per face, both ways) relative to
+   the bounding-box diagonal on the shared meshes at 10% and 1% of the faces.
+"""
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from harness import Benchmark, machine_description  # noqa: E402
+
+from meshsmith import datasets, decimation, geometry, io  # noqa: E402
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+if not DATA.is_dir():
+    DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
+QUALITY_MESHES = ["armadillo.obj", "pmp-bunny.off", "nefertiti-lowres.obj", "fandisk.obj", "bumpy-cube.obj"]
+
+
+def _optional(module_name):
+    try:
+        return __import__(module_name)
+    except ImportError:
+        return None
+
+
+def bumped_sphere(subdivisions):
+    V, F = datasets.icosphere(subdivisions)
+    return V + 0.01 * np.sin(7 * V[:, [1, 2, 0]]), F
+
+
+def methods():
+    """name -> fn(V, F, target_faces) -> (V, F), for every installed decimator."""
+    out = {"meshsmith": lambda V, F, t: decimation.decimate(V, F, target_faces=t),
+           "meshsmith (multiple choice k=8)": lambda V, F, t: decimation.decimate(V, F, target_faces=t, candidates=8)}
+    fs = _optional("fast_simplification")
+    if fs:
+        out["fast_simplification"] = lambda V, F, t: fs.simplify(V, F, target_count=t)
+    igl = _optional("igl")
+    if igl:
+        def igl_call(function):
+            def run(V, F, t):
+                result = function(V, np.asfortranarray(F, dtype=np.int32), t)
+                return result[0], result[1]
+            return run
+        out["libigl decimate"] = igl_call(igl.decimate)
+        out["libigl qslim"] = igl_call(igl.qslim)
+    o3d = _optional("open3d")
+    if o3d:
+        def open3d_run(V, F, t):
+            mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(V), o3d.utility.Vector3iVector(F.astype(np.int32)))
+            out_mesh = mesh.simplify_quadric_decimation(target_number_of_triangles=t)
+            return np.asarray(out_mesh.vertices), np.asarray(out_mesh.triangles)
+        out["open3d"] = open3d_run
+    ml = _optional("pymeshlab")
+    if ml:
+        def meshlab_run(V, F, t):
+            ms = ml.MeshSet()
+            ms.add_mesh(ml.Mesh(V, F.astype(np.int32)))
+            ms.meshing_decimation_quadric_edge_collapse(targetfacenum=t)
+            m = ms.current_mesh()
+            return m.vertex_matrix(), m.face_matrix()
+        out["pymeshlab"] = meshlab_run
+    return out
+
+
+def is_slow(name):
+    return name.startswith("libigl")
+
+
+def speed(full):
+    all_methods = methods()
+    V, F = bumped_sphere(8)
+    target = len(F) // 10
+    bench = Benchmark("decimation", f"to 10%: icosphere(8) bumped, {len(F):,} faces -> {target:,}", repeats=1)
+    for name, run in all_methods.items():
+        if full or not is_slow(name):
+            bench.time(name, lambda run=run: run(V, F, target))
+    bench.report()
+    V, F = bumped_sphere(6)
+    target = len(F) // 10
+    bench = Benchmark("decimation", f"to 10%: icosphere(6) bumped, {len(F):,} faces -> {target:,}", repeats=3)
+    for name, run in all_methods.items():
+        bench.time(name, lambda run=run: run(V, F, target))
+    bench.report()
+
+
+def _vm_hwm_kib():
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1])
+    return 0
+
+
+def memory_child(name):
+    """Run in a subprocess: one decimation of the 1.3M-face input; print the peak increase (MiB)."""
+    V, F = bumped_sphere(8)
+    run = methods()[name]
+    before = _vm_hwm_kib()
+    run(V, F, len(F) // 10)
+    print((_vm_hwm_kib() - before) / 1024.0)
+
+
+def memory():
+    print(f"\n## decimation: peak memory, icosphere(8) bumped to 10% ({machine_description()})")
+    print(f"{'implementation':<34} {'peak increase [MiB]':>20}")
+    for name in methods():
+        if is_slow(name):
+            continue
+        result = subprocess.run([sys.executable, __file__, "--memory", name], capture_output=True, text=True)
+        value = result.stdout.strip().splitlines()[-1] if result.returncode == 0 and result.stdout.strip() else "failed"
+        print(f"{name:<34} {value:>20}")
+
+
+def relative_hausdorff(V, F, V2, F2):
+    diagonal = np.linalg.norm(V.max(0) - V.min(0))
+    return geometry.hausdorff_distance(V, F, V2, F2, sampled=True, samples_per_face=4) / diagonal
+
+
+def quality():
+    all_methods = methods()
+    names = [name for name in all_methods if name != "meshsmith (multiple choice k=8)"]
+    print(f"\n## decimation: symmetric Hausdorff / bbox diagonal (vertices + 4 samples/face, both ways)")
+    print(f"{'mesh':<22} {'kept':>5} {'faces':>7} " + " ".join(f"{name:>19}" for name in names))
+    for mesh_name in QUALITY_MESHES:
+        path = DATA / mesh_name
+        if not path.is_file():
+            print(f"{mesh_name:<22} (not found under {DATA})")
+            continue
+        V, F = io.read_mesh(path)
+        for ratio in (0.1, 0.01):
+            target = int(round(ratio * len(F)))
+            cells = []
+            for name in names:
+                try:
+                    V2, F2 = all_methods[name](V, F, target)
+                    cells.append(f"{relative_hausdorff(V, F, np.asarray(V2, float), np.asarray(F2)):.5f} ({len(F2)})")
+                except Exception as error:  # a peer that fails is reported, not fatal
+                    cells.append(f"failed: {type(error).__name__}"[:19])
+            print(f"{mesh_name:<22} {ratio:>5.0%} {target:>7} " + " ".join(f"{cell:>19}" for cell in cells), flush=True)
+
+
+def main(full=False):
+    speed(full)
+    memory()
+    quality()
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--memory":
+        memory_child(sys.argv[2])
+    else:
+        main(full="--full" in sys.argv)
