@@ -2,10 +2,47 @@
 #include "bindings.h"
 #include "convert.h"
 
+#include <meshsmith/decimation/clustering.h>
+
+#include <string>
+
 namespace meshsmith::python {
+namespace {
+
+decimation::ClusterRepresentative parse_representative(const std::string& name) {
+  if (name == "center") return decimation::ClusterRepresentative::cell_center;
+  if (name == "centroid") return decimation::ClusterRepresentative::centroid;
+  if (name == "median") return decimation::ClusterRepresentative::median;
+  if (name == "quadric") return decimation::ClusterRepresentative::quadric;
+  throw InputError("cluster: unknown representative '" + name + "': use center, centroid, median or quadric");
+}
+
+}  // namespace
 
 void bind_decimation_clustering(py::module_& m) {
-  (void)m;  // filled in with the chapter's functions
+  m.def("cluster_vertices", [](const py::object& V, const py::object& F, double cell_size,
+                               const std::string& representative, const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    decimation::ClusteringOptions options;
+    options.cell_size = cell_size;
+    options.representative = parse_representative(representative);
+    Progress progress = make_progress(callback);
+    auto result = without_gil([&] { return decimation::cluster_vertices(mesh.V(), mesh.F(), options, progress); });
+    return py::make_tuple(to_numpy(std::move(result.V)), indices_to_numpy(result.F),
+                          indices_to_numpy(result.vertex_cluster), result.is_manifold, result.cell_size);
+  }, py::arg("V"), py::arg("F"), py::arg("cell_size"), py::arg("representative"),
+     py::arg("progress") = py::none(),
+     "(V, F, vertex_cluster, is_manifold, cell_size) of vertex clustering on a uniform grid (§4.1).");
+
+  m.def("cell_size_for_vertex_count", [](const py::object& V, const py::object& F, Eigen::Index target) {
+    const MeshArguments mesh(V, F);
+    return without_gil([&] { return decimation::cell_size_for_vertex_count(mesh.V(), mesh.F(), target); });
+  }, py::arg("V"), py::arg("F"), py::arg("target_vertices"));
+
+  m.def("occupied_cell_count", [](const py::object& V, const py::object& F, double cell_size) {
+    const MeshArguments mesh(V, F);
+    return without_gil([&] { return decimation::occupied_cell_count(mesh.V(), mesh.F(), cell_size); });
+  }, py::arg("V"), py::arg("F"), py::arg("cell_size"));
 }
 
 }  // namespace meshsmith::python
