@@ -248,6 +248,8 @@ def test_impossible_requests_raise():
         decimation.decimate(V, F, max_error=-1)
     with pytest.raises(meshsmith.InputError):
         decimation.decimate(V, F + 1000, ratio=0.5)
+    with pytest.raises(meshsmith.InputError, match="repeated vertex index"):
+        decimation.decimate(V, np.array([[0, 1, 1], [2, 2, 3]]), target_faces=1)
 
 
 def test_progress_and_cancellation():

@@ -139,7 +139,8 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     Returns (V', F'): (n', 3) float64 and (m', 3) int64; with ``return_report=True``
     (V', F', :class:`DecimationReport`).
     Raises InputError for bad input or an impossible request (no stop rule, target 0, ratio
-    outside (0, 1], both target_faces and ratio, an unknown operator or cost, a negative option).
+    outside (0, 1], both target_faces and ratio, an unknown operator or cost, a negative option,
+    no face without a repeated index).
     """
     if target_faces is not None and ratio is not None:
         raise InputError("decimate: give target_faces or ratio, not both")

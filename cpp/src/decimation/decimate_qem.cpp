@@ -617,6 +617,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
 
   HalfedgeMesh mesh = build_halfedge_mesh(V, F);
   const int face_slots = static_cast<int>(mesh.face_alive.size());
+  if (face_slots == 0)
+    throw InputError("decimate: every face of F has a repeated vertex index: no triangle to decimate");
   Decimator decimator(mesh, options);
   decimator.set_quadrics(initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1)));
 
@@ -705,14 +707,19 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
     SplitMix64 random{options.seed};
     const int patience = 1000;  // consecutive steps without an admissible collapse below the bound
     int misses = 0;
+    std::vector<Candidate> drawn(options.candidates);
     while (!done() && !live.empty() && misses < patience) {
-      Candidate best;
-      for (int k = 0; k < options.candidates; ++k) {
+      for (Candidate& c : drawn) {
         const auto pick = random();
         const int f = live[pick % live.size()];
-        const int h = mesh.canonical(3 * f + static_cast<int>((pick >> 40) % 3));
-        const Candidate c = decimator.evaluate(h);
-        if (c.cost < best.cost && c.cost <= max_error && decimator.is_admissible(c)) best = c;
+        c = decimator.evaluate(mesh.canonical(3 * f + static_cast<int>((pick >> 40) % 3)));
+      }
+      // The cheapest admissible one: the checks only for as many as needed, cheapest first.
+      std::sort(drawn.begin(), drawn.end(), [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+      Candidate best;
+      for (const Candidate& c : drawn) {
+        if (!(c.cost < kInfinity && c.cost <= max_error)) break;
+        if (decimator.is_admissible(c)) { best = c; break; }
       }
       if (!(best.cost < kInfinity)) { ++misses; continue; }
       misses = 0;

@@ -98,7 +98,7 @@ struct QemResult {
 /// \pre validate_mesh(V, F) passes (called here); options hold a stop rule, target_faces >= 0,
 ///      max_error >= 0, candidates >= 0, max_valence >= 0, min_triangle_quality in [0, 1],
 ///      max_normal_deviation_deg in [0, 180].
-/// \throw InputError if a precondition fails, naming it. \throw Cancelled through `progress`.
+/// \throw InputError if a precondition fails, naming it, or if every face has a repeated index. \throw Cancelled through `progress`.
 QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& options,
                        const Progress& progress = {});
 
