@@ -381,6 +381,15 @@ class Decimator {
     return record;
   }
 
+  /// Starts loading what evaluating an edge at v reads of v (its quadric and position): a ring's
+  /// vertices are fetched together instead of one cache miss after the other.
+  void prefetch_vertex(int v) const {
+    const char* quadric = reinterpret_cast<const char*>(&quadric_[v]);
+    __builtin_prefetch(quadric);
+    __builtin_prefetch(quadric + sizeof(Quadric) - 1);
+    __builtin_prefetch(&mesh_.position[v]);
+  }
+
   int removed_faces_of(const Candidate& c) const {
     const Resolved r = resolve(c.halfedge);
     return (r.halfedge_removed_to_kept >= 0) + (r.twin >= 0);
@@ -554,6 +563,7 @@ class CollapseQueue {
     sift_down(slot_[last.edge]);
   }
   const QueueEntry& top() const { return entries_.front(); }
+  void prefetch(int edge) const { __builtin_prefetch(&slot_[edge]); }
   /// The smallest key below the top (+∞ when the top is alone).
   float runner_up_cost() const {
     float best = std::numeric_limits<float>::infinity();
@@ -710,6 +720,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
         if (mesh.opposite[g] >= 0) heap.remove(mesh.opposite[g]);
       }
     };
+    std::vector<int> ring;
+    ring.reserve(64);
     while (!done() && !heap.empty()) {
       const int e = heap.top().edge;
       const Candidate c = decimator.evaluate(e);
@@ -724,11 +736,21 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       drop_face_edges(dying.halfedge_removed_to_kept);
       drop_face_edges(dying.twin);
       const CollapseRecord record = perform(c);
+      // The kept vertex's edges: gathered (their far ends and heap slots fetched meanwhile), then
+      // re-costed.
+      ring.clear();
       mesh.for_each_outgoing(record.kept, [&](int h) {
-        requeue(mesh.canonical(h));
+        ring.push_back(mesh.canonical(h));
+        decimator.prefetch_vertex(mesh.to(h));
+        heap.prefetch(ring.back());
         const int incoming = prev_halfedge(h);
-        if (mesh.opposite[incoming] < 0) requeue(incoming);
+        if (mesh.opposite[incoming] < 0) {
+          ring.push_back(incoming);
+          decimator.prefetch_vertex(mesh.from(incoming));
+          heap.prefetch(incoming);
+        }
       });
+      for (const int edge : ring) requeue(edge);
       report();
     }
   } else {
