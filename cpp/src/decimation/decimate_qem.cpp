@@ -243,6 +243,24 @@ Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
     return {s * (c00 * q.b0 + c01 * q.b1 + c02 * q.b2), s * (c01 * q.b0 + c11 * q.b1 + c12 * q.b2),
             s * (c02 * q.b0 + c12 * q.b1 + c22 * q.b2)};
   }
+  // Rank-one path (flat regions, where the pseudo-inverse keeps only the largest eigenvalue λ₁):
+  // power iteration from A's column of largest diagonal gives the top eigenvector u and
+  // λ₁ = uᵀAu; when the other two sum to tr A − λ₁ ≤ ½·10⁻³ λ₁, both are surely below the cut
+  // and the minimiser is reference + u·uᵀ(−b − A·reference)/λ₁. Each step shrinks the error in
+  // u by λ₂/λ₁ < ½·10⁻³, so four reach round-off.
+  if (trace > 0) {
+    const Eigen::Matrix3d a = q.A();
+    Eigen::Index largest;
+    a.diagonal().maxCoeff(&largest);
+    Vec3 u = a.col(largest);
+    for (int step = 0; step < 4; ++step) u = (a * u).normalized();
+    const Vec3 au = a * u;
+    const double lambda = u.dot(au);
+    if (lambda > 0 && std::isfinite(lambda) && trace - lambda <= 0.5e-3 * lambda) {
+      const Vec3 residual = -q.b() - a * reference;
+      return reference + u * (u.dot(residual) / lambda);
+    }
+  }
   return q.minimizer(reference);
 }
 
