@@ -1,5 +1,5 @@
 // Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh, error
-// quadrics, a 4-ary heap with lazy deletion, pluggable costs and fairness
+// quadrics, an addressable 4-ary heap updated in place, pluggable costs and fairness
 // criteria around one greedy loop.
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/parallel.h>
@@ -243,6 +243,24 @@ Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
     return {s * (c00 * q.b0 + c01 * q.b1 + c02 * q.b2), s * (c01 * q.b0 + c11 * q.b1 + c12 * q.b2),
             s * (c02 * q.b0 + c12 * q.b1 + c22 * q.b2)};
   }
+  // Rank-one path (flat regions, where the pseudo-inverse keeps only the largest eigenvalue λ₁):
+  // power iteration from A's column of largest diagonal gives the top eigenvector u and
+  // λ₁ = uᵀAu; when the other two sum to tr A − λ₁ ≤ ½·10⁻³ λ₁, both are surely below the cut
+  // and the minimiser is reference + u·uᵀ(−b − A·reference)/λ₁. Each step shrinks the error in
+  // u by λ₂/λ₁ < ½·10⁻³, so four reach round-off.
+  if (trace > 0) {
+    const Eigen::Matrix3d a = q.A();
+    Eigen::Index largest;
+    a.diagonal().maxCoeff(&largest);
+    Vec3 u = a.col(largest);
+    for (int step = 0; step < 4; ++step) u = (a * u).normalized();
+    const Vec3 au = a * u;
+    const double lambda = u.dot(au);
+    if (lambda > 0 && std::isfinite(lambda) && trace - lambda <= 0.5e-3 * lambda) {
+      const Vec3 residual = -q.b() - a * reference;
+      return reference + u * (u.dot(residual) / lambda);
+    }
+  }
   return q.minimizer(reference);
 }
 
@@ -381,6 +399,15 @@ class Decimator {
     return record;
   }
 
+  /// Starts loading what evaluating an edge at v reads of v (its quadric and position): a ring's
+  /// vertices are fetched together instead of one cache miss after the other.
+  void prefetch_vertex(int v) const {
+    const char* quadric = reinterpret_cast<const char*>(&quadric_[v]);
+    __builtin_prefetch(quadric);
+    __builtin_prefetch(quadric + sizeof(Quadric) - 1);
+    __builtin_prefetch(&mesh_.position[v]);
+  }
+
   int removed_faces_of(const Candidate& c) const {
     const Resolved r = resolve(c.halfedge);
     return (r.halfedge_removed_to_kept >= 0) + (r.twin >= 0);
@@ -505,8 +532,10 @@ class Decimator {
   double min_normal_cosine_ = -2;
 };
 
-/// A 4-ary min-heap of 8-byte entries: the four children of a node share a cache line, so a
-/// sift touches half as many lines as a binary heap's would (the queue holds millions).
+/// An addressable 4-ary min-heap of 8-byte entries, at most one per edge: the four children of
+/// a node share a cache line, so a sift touches half as many lines as a binary heap's would (the
+/// queue holds millions), and `slot_` (per half-edge: its entry's index, −1 when none) lets a
+/// changed edge's key move in place and a dying edge's entry leave at once.
 struct QueueEntry {
   float cost;  // single precision: the key only orders; the collapse re-evaluates in double
   int edge;    // canonical half-edge of the edge
@@ -514,43 +543,68 @@ struct QueueEntry {
 
 class CollapseQueue {
  public:
+  CollapseQueue(std::size_t edge_slots, const HalfedgeMesh& mesh) : slot_(edge_slots, -1), mesh_(mesh) {}
   void reserve(std::size_t n) { entries_.reserve(n); }
   bool empty() const { return entries_.empty(); }
-  /// Adds without ordering; call heapify() before the first pop.
-  void append(const QueueEntry& e) { entries_.push_back(e); }
+  /// Adds without ordering (edge not queued yet); call heapify() before the first pop.
+  void append(const QueueEntry& e) {
+    slot_[e.edge] = static_cast<int>(entries_.size());
+    entries_.push_back(e);
+  }
   void heapify() {
     for (std::size_t i = entries_.size() / 4 + 1; i-- > 0;) sift_down(i);
   }
-  void push(const QueueEntry& e) {
-    entries_.push_back(e);
-    std::size_t i = entries_.size() - 1;
-    while (i > 0) {
-      const std::size_t parent = (i - 1) / 4;
-      if (!(e.cost < entries_[parent].cost)) break;
-      entries_[i] = entries_[parent];
-      i = parent;
+  /// Inserts the edge's entry, or moves its key when it has one.
+  void set(const QueueEntry& e) {
+    const int i = slot_[e.edge];
+    if (i < 0) {
+      entries_.push_back(e);
+      sift_up(entries_.size() - 1);
+      return;
     }
-    entries_[i] = e;
+    const QueueEntry old = entries_[i];
+    entries_[i].cost = e.cost;
+    if (less(e, old)) sift_up(i);
+    else if (less(old, e)) sift_down(i);
+  }
+  /// Drops the edge's entry, if it has one.
+  void remove(int edge) {
+    const int i = slot_[edge];
+    if (i < 0) return;
+    slot_[edge] = -1;
+    const QueueEntry last = entries_.back();
+    entries_.pop_back();
+    if (static_cast<std::size_t>(i) == entries_.size()) return;
+    entries_[i] = last;
+    slot_[last.edge] = i;
+    sift_up(i);
+    sift_down(slot_[last.edge]);
   }
   const QueueEntry& top() const { return entries_.front(); }
+  void prefetch(int edge) const { __builtin_prefetch(&slot_[edge]); }
   /// The smallest key below the top (+∞ when the top is alone).
   float runner_up_cost() const {
     float best = std::numeric_limits<float>::infinity();
     for (std::size_t c = 1; c < std::min<std::size_t>(5, entries_.size()); ++c) best = std::min(best, entries_[c].cost);
     return best;
   }
-  void pop() {
-    entries_.front() = entries_.back();
-    entries_.pop_back();
-    if (!entries_.empty()) sift_down(0);
-  }
-  /// Replaces the top entry by one with a key at least as large (a stale key re-evaluated).
-  void replace_top(const QueueEntry& e) {
-    entries_.front() = e;
-    sift_down(0);
-  }
+  void pop() { remove(entries_.front().edge); }
 
  private:
+  void place(std::size_t i, const QueueEntry& e) {
+    entries_[i] = e;
+    slot_[e.edge] = static_cast<int>(i);
+  }
+  void sift_up(std::size_t i) {
+    const QueueEntry moving = entries_[i];
+    while (i > 0) {
+      const std::size_t parent = (i - 1) / 4;
+      if (!less(moving, entries_[parent])) break;
+      place(i, entries_[parent]);
+      i = parent;
+    }
+    place(i, moving);
+  }
   void sift_down(std::size_t i) {
     const std::size_t n = entries_.size();
     if (i >= n) return;
@@ -567,14 +621,24 @@ class CollapseQueue {
       std::size_t best = first;
       const std::size_t last = std::min(first + 4, n);
       for (std::size_t c = first + 1; c < last; ++c)
-        if (entries_[c].cost < entries_[best].cost) best = c;
-      if (!(entries_[best].cost < moving.cost)) break;
-      entries_[i] = entries_[best];
+        if (less(entries_[c], entries_[best])) best = c;
+      if (!less(entries_[best], moving)) break;
+      place(i, entries_[best]);
       i = best;
     }
-    entries_[i] = moving;
+    place(i, moving);
+  }
+  /// Key order; ties (many exactly flat collapses cost 0) go to the shorter edge, then the smaller
+  /// half-edge, so the order does not depend on the heap's layout.
+  bool less(const QueueEntry& x, const QueueEntry& y) const {
+    if (x.cost != y.cost) return x.cost < y.cost;
+    const double lx = (mesh_.position[mesh_.from(x.edge)] - mesh_.position[mesh_.to(x.edge)]).squaredNorm();
+    const double ly = (mesh_.position[mesh_.from(y.edge)] - mesh_.position[mesh_.to(y.edge)]).squaredNorm();
+    return lx < ly || (lx == ly && x.edge < y.edge);
   }
   std::vector<QueueEntry> entries_;
+  std::vector<int> slot_;
+  const HalfedgeMesh& mesh_;
 };
 
 void check_options(const QemOptions& options) {
@@ -643,60 +707,68 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   auto done = [&] { return target > 0 && faces <= target; };
 
   if (options.candidates == 0) {
-    // Full priority queue: a min-heap of (cost, canonical half-edge of the edge) with lazy
-    // deletion and lazy re-evaluation (Lindstrom & Turk style): a collapse does not touch the
-    // queue entries of the edges around the kept vertex; every entry is re-evaluated when it
-    // reaches the top and goes back in if its cost now exceeds the next key. Quadrics only grow,
-    // so an old key is (nearly) a lower bound and the order is (nearly) that of eager updates.
-    // `queued` says whether an edge has an entry; entries of dead or renamed edges are skipped.
-    std::vector<std::uint8_t> queued(3 * static_cast<std::size_t>(face_slots), 0);
-    CollapseQueue heap;
+    // Full priority queue, updated eagerly: a collapse re-costs every edge around the kept vertex
+    // (the only ones whose quadric, position or boundary flag changed) and moves its key in place;
+    // the entries of the edges that die or are glued (renamed) leave before the collapse. Each
+    // edge has at most one entry, so no dead entries are popped. The top is still re-evaluated
+    // and goes back if its cost grew past the next key (costs that depend on the wider ring).
+    // An edge rejected by the checks leaves the queue until an edge at one of its ends collapses.
+    CollapseQueue heap(3 * static_cast<std::size_t>(face_slots), mesh);
     {
-      std::vector<float> cost(queued.size(), std::numeric_limits<float>::infinity());
+      std::vector<float> cost(3 * static_cast<std::size_t>(face_slots), std::numeric_limits<float>::infinity());
       parallel_for_with_progress(3 * static_cast<Eigen::Index>(face_slots), progress.subrange(0.1, 0.2),
                                  "edge costs", [&](Eigen::Index h) {
         if (mesh.canonical(static_cast<int>(h)) == h) cost[h] = static_cast<float>(decimator.evaluate(static_cast<int>(h)).cost);
       });
       heap.reserve(cost.size() / 2 + 16);
       for (std::size_t h = 0; h < cost.size(); ++h)
-        if (cost[h] < std::numeric_limits<float>::infinity()) {
-          queued[h] = 1;
-          heap.append({cost[h], static_cast<int>(h)});
-        }
+        if (cost[h] < std::numeric_limits<float>::infinity()) heap.append({cost[h], static_cast<int>(h)});
       heap.heapify();
     }
-    auto push_edge = [&](int e) {
-      const double c = decimator.evaluate(e).cost;
-      queued[e] = c < kInfinity;
-      if (c < kInfinity) heap.push({static_cast<float>(c), e});
+    auto requeue = [&](int edge) {
+      const double c = decimator.evaluate(edge).cost;
+      if (c < kInfinity) heap.set({static_cast<float>(c), edge});
+      else heap.remove(edge);
     };
+    auto drop_face_edges = [&](int h) {  // the edges of h's face, which dies or is glued away
+      if (h < 0) return;
+      const int first = 3 * (h / 3);
+      for (int g = first; g < first + 3; ++g) {
+        heap.remove(g);
+        if (mesh.opposite[g] >= 0) heap.remove(mesh.opposite[g]);
+      }
+    };
+    std::vector<int> ring;
+    ring.reserve(64);
     while (!done() && !heap.empty()) {
       const int e = heap.top().edge;
-      if (!mesh.face_alive[e / 3] || mesh.canonical(e) != e || !queued[e]) {
-        heap.pop();
-        continue;
-      }
       const Candidate c = decimator.evaluate(e);
       if (c.cost < kInfinity && static_cast<float>(c.cost) > heap.runner_up_cost()) {
-        heap.replace_top({static_cast<float>(c.cost), e});  // its cost grew: not the cheapest now
+        heap.set({static_cast<float>(c.cost), e});  // its cost grew: not the cheapest now
         continue;
       }
       heap.pop();
-      queued[e] = 0;
       if (c.cost > max_error) break;
       if (!(c.cost < kInfinity) || !decimator.is_admissible(c)) continue;  // re-queued when its ring changes
+      const Decimator::Resolved dying = decimator.resolve(c.halfedge);
+      drop_face_edges(dying.halfedge_removed_to_kept);
+      drop_face_edges(dying.twin);
       const CollapseRecord record = perform(c);
-      // Edges around the kept vertex without an entry (rejected before) get one; the edges to
-      // left and right were glued from two and may be named by a new half-edge: a fresh entry.
-      auto update = [&](int h, int other_end) {
-        const int edge = mesh.canonical(h);
-        if (!queued[edge] || other_end == record.left || other_end == record.right) push_edge(edge);
-      };
+      // The kept vertex's edges: gathered (their far ends and heap slots fetched meanwhile), then
+      // re-costed.
+      ring.clear();
       mesh.for_each_outgoing(record.kept, [&](int h) {
-        update(h, mesh.to(h));
+        ring.push_back(mesh.canonical(h));
+        decimator.prefetch_vertex(mesh.to(h));
+        heap.prefetch(ring.back());
         const int incoming = prev_halfedge(h);
-        if (mesh.opposite[incoming] < 0) update(incoming, mesh.from(incoming));
+        if (mesh.opposite[incoming] < 0) {
+          ring.push_back(incoming);
+          decimator.prefetch_vertex(mesh.from(incoming));
+          heap.prefetch(incoming);
+        }
       });
+      for (const int edge : ring) requeue(edge);
       report();
     }
   } else {

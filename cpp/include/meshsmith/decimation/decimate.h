@@ -82,10 +82,12 @@ struct QemResult {
 };
 
 /// Greedy incremental decimation (§4.2): collapses the cheapest admissible edge until a stop rule
-/// holds, keeping per-vertex error quadrics (summed on collapse) and a 4-ary heap of edge costs
-/// with lazy deletion and lazy re-evaluation (an entry is re-costed when it reaches the top and
-/// re-inserted if its cost grew). A collapse rejected by the checks is retried when an edge of
-/// its neighbourhood collapses. O(#F log #F) time, about 200 bytes per face of memory. Faces with a repeated vertex index are dropped first; zero-area faces,
+/// holds, keeping per-vertex error quadrics (summed on collapse) and an addressable 4-ary heap
+/// with one entry per edge, whose keys are updated in place: each collapse re-costs the edges
+/// around the kept vertex and drops those that die (the top is still re-costed before it is
+/// collapsed). Equal costs go to the shorter edge first, then the smaller half-edge index, so the
+/// result is deterministic. A collapse rejected by the checks is retried when an edge at one of
+/// its ends collapses. O(#F log #F) time, about 200 bytes per face of memory. Faces with a repeated vertex index are dropped first; zero-area faces,
 /// duplicate vertices, several components and holes are fine. Non-manifold or inconsistently
 /// oriented input is split into manifold, oriented fans first (never torn further), and the
 /// output refers back to the input through vertex_origin.
