@@ -24,7 +24,7 @@ def sphere_file(tmp_path):
 
 @pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["curvature"], ["normals"],
                                      ["triangulate"], ["voronoi"], ["crust"], ["power"], ["demo"],
-                                     ["parametrize"]])
+                                     ["decimate"], ["lod"], ["parametrize"]])
 def test_every_command_has_help(command):
     result = run(*command, "--help")
     assert result.returncode == 0 and "usage: meshsmith" in result.stdout

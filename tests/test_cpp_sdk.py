@@ -58,6 +58,12 @@ def test_consumer_reads_a_mesh_and_prints_its_counts(consumer, tmp_path):
     assert int(counts["faces"]) == len(F) == 320
     assert int(counts["edges"]) == 480
     assert counts["meshsmith"] == meshsmith.__version__
+    # QEM decimation and the progressive mesh through the SDK agree with the Python API.
+    V_half, F_half = meshsmith.decimation.decimate(V, F, target_faces=160)
+    assert int(counts["decimated faces"]) == len(F_half) == 160
+    pm = meshsmith.decimation.progressive_mesh(V, F, target_faces=160)
+    assert int(counts["progressive splits"]) == pm.n_splits == (320 - 160) // 2
+    assert counts["progressive full level equals input"] == "yes"
 
 
 def test_consumer_reports_bad_input_as_an_error(consumer, tmp_path):
