@@ -221,7 +221,7 @@ def test_bad_input():
         decimation.cluster(V, F, target_vertices=0)
     with pytest.raises(meshsmith.InputError, match="target_vertices"):
         decimation.cluster(V, F, target_vertices=2.5)
-    with pytest.raises(meshsmith.InputError, match="representative 'mean'"):
+    with pytest.raises(meshsmith.InputError, match="representative = 'mean'"):
         decimation.cluster(V, F, cell_size=0.1, representative="mean")
     Vn = V.copy()
     Vn[4, 1] = np.nan

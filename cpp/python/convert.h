@@ -9,7 +9,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <initializer_list>
 #include <string>
+#include <utility>
 
 namespace meshsmith::python {
 
@@ -29,6 +31,23 @@ RealArray as_real_matrix(const py::handle& object, const char* name,
 /// floats are rejected (a float index is a bug upstream), so are values outside int32.
 IndexArray as_index_matrix(const py::handle& object, const char* name,
                                                      Eigen::Index columns);
+
+/// The enumerator that the string option `value` names among `choices` — one rule, and one message,
+/// for every string option of the bindings.
+/// \throw InputError "<argument> = '<value>': expected 'a', 'b' or 'c'" for any other value.
+template <typename Enum>
+Enum parse_choice(const std::string& value, const std::string& argument,
+                  std::initializer_list<std::pair<const char*, Enum>> choices) {
+  for (const auto& [name, choice] : choices)
+    if (value == name) return choice;
+  std::string expected;
+  std::size_t k = 0;
+  for (const auto& choice : choices) {
+    expected += std::string(k == 0 ? "'" : (k + 1 == choices.size() ? " or '" : ", '")) + choice.first + "'";
+    ++k;
+  }
+  throw InputError(argument + " = '" + value + "': expected " + expected);
+}
 
 /// Read-only Eigen views on arrays produced by as_real_matrix / as_index_matrix (no copy).
 inline Eigen::Map<const VertexMatrix> map_vertices(const RealArray& a) {

@@ -10,11 +10,12 @@ namespace meshsmith::python {
 namespace {
 
 decimation::ClusterRepresentative parse_representative(const std::string& name) {
-  if (name == "center") return decimation::ClusterRepresentative::cell_center;
-  if (name == "centroid") return decimation::ClusterRepresentative::centroid;
-  if (name == "median") return decimation::ClusterRepresentative::median;
-  if (name == "quadric") return decimation::ClusterRepresentative::quadric;
-  throw InputError("cluster: unknown representative '" + name + "': use center, centroid, median or quadric");
+  using decimation::ClusterRepresentative;
+  return parse_choice<ClusterRepresentative>(name, "representative",
+                                             {{"center", ClusterRepresentative::cell_center},
+                                              {"centroid", ClusterRepresentative::centroid},
+                                              {"median", ClusterRepresentative::median},
+                                              {"quadric", ClusterRepresentative::quadric}});
 }
 
 }  // namespace

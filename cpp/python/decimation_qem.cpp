@@ -14,16 +14,15 @@ namespace {
 using namespace meshsmith::decimation;
 
 CollapseOperator parse_operator(const std::string& name) {
-  if (name == "edge") return CollapseOperator::edge;
-  if (name == "halfedge") return CollapseOperator::halfedge;
-  throw InputError("decimate: operator must be 'edge' or 'halfedge', got '" + name + "'");
+  return parse_choice<CollapseOperator>(name, "operator",
+                                        {{"edge", CollapseOperator::edge}, {"halfedge", CollapseOperator::halfedge}});
 }
 
 CollapseCost parse_cost(const std::string& name) {
-  if (name == "quadric") return CollapseCost::quadric;
-  if (name == "plane_distance") return CollapseCost::plane_distance;
-  if (name == "volume_change") return CollapseCost::volume_change;
-  throw InputError("decimate: cost must be 'quadric', 'plane_distance' or 'volume_change', got '" + name + "'");
+  return parse_choice<CollapseCost>(name, "cost",
+                                    {{"quadric", CollapseCost::quadric},
+                                     {"plane_distance", CollapseCost::plane_distance},
+                                     {"volume_change", CollapseCost::volume_change}});
 }
 
 /// The collapse records as arrays: removed, kept, left, right (k,) and the three positions (k, 3).

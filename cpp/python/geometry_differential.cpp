@@ -34,29 +34,28 @@ py::tuple sparse_to_python(Eigen::SparseMatrix<double>&& matrix) {
 py::array_t<double> vector_to_numpy(Eigen::VectorXd&& vector) { return to_numpy(std::move(vector)); }
 
 NormalWeighting parse_weighting(const std::string& name) {
-  if (name == "uniform") return NormalWeighting::uniform;
-  if (name == "area") return NormalWeighting::area;
-  if (name == "angle") return NormalWeighting::angle;
-  throw InputError("weighting = '" + name + "': expected 'uniform', 'area' or 'angle'");
+  return parse_choice<NormalWeighting>(name, "weighting",
+                                       {{"uniform", NormalWeighting::uniform},
+                                        {"area", NormalWeighting::area},
+                                        {"angle", NormalWeighting::angle}});
 }
 
 MassMatrixType parse_mass(const std::string& name, const char* argument) {
-  if (name == "barycentric") return MassMatrixType::barycentric;
-  if (name == "voronoi") return MassMatrixType::voronoi;
-  throw InputError(std::string(argument) + " = '" + name + "': expected 'barycentric' or 'voronoi'");
+  return parse_choice<MassMatrixType>(name, argument,
+                                      {{"barycentric", MassMatrixType::barycentric}, {"voronoi", MassMatrixType::voronoi}});
 }
 
+/// 'full_turn': 2π at boundary vertices, as libigl; 'half_turn': π.
 BoundaryAngle parse_boundary(const std::string& name) {
-  if (name == "full_turn") return BoundaryAngle::full_turn;
-  if (name == "half_turn") return BoundaryAngle::half_turn;
-  throw InputError("boundary = '" + name + "': expected 'full_turn' (2π, libigl) or 'half_turn' (π)");
+  return parse_choice<BoundaryAngle>(name, "boundary",
+                                     {{"full_turn", BoundaryAngle::full_turn}, {"half_turn", BoundaryAngle::half_turn}});
 }
 
 PrincipalCurvatureMethod parse_principal(const std::string& name) {
-  if (name == "shape_operator") return PrincipalCurvatureMethod::shape_operator;
-  if (name == "mean_gaussian") return PrincipalCurvatureMethod::mean_gaussian;
-  if (name == "quadric_fit") return PrincipalCurvatureMethod::quadric_fit;
-  throw InputError("method = '" + name + "': expected 'quadric_fit', 'shape_operator' or 'mean_gaussian'");
+  return parse_choice<PrincipalCurvatureMethod>(name, "method",
+                                                {{"quadric_fit", PrincipalCurvatureMethod::quadric_fit},
+                                                 {"shape_operator", PrincipalCurvatureMethod::shape_operator},
+                                                 {"mean_gaussian", PrincipalCurvatureMethod::mean_gaussian}});
 }
 
 // Converts (V, F), releases the GIL and runs `compute(V_view, F_view)`.

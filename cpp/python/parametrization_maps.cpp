@@ -38,16 +38,14 @@ ParameterMatrix as_parameters(const py::object& object, const char* name) {
 }
 
 BoundaryShape parse_shape(const std::string& name) {
-  if (name == "circle") return BoundaryShape::circle;
-  if (name == "square") return BoundaryShape::square;
-  throw InputError("shape must be \"circle\" or \"square\", not \"" + name + "\"");
+  return parse_choice<BoundaryShape>(name, "shape", {{"circle", BoundaryShape::circle}, {"square", BoundaryShape::square}});
 }
 
 HarmonicWeights parse_weights(const std::string& name) {
-  if (name == "uniform") return HarmonicWeights::uniform;
-  if (name == "cotan") return HarmonicWeights::cotan;
-  if (name == "mean_value") return HarmonicWeights::mean_value;
-  throw InputError("weights must be \"uniform\", \"cotan\" or \"mean_value\", not \"" + name + "\"");
+  return parse_choice<HarmonicWeights>(name, "weights",
+                                       {{"uniform", HarmonicWeights::uniform},
+                                        {"cotan", HarmonicWeights::cotan},
+                                        {"mean_value", HarmonicWeights::mean_value}});
 }
 
 py::array_t<std::int64_t> vector_to_int64(const std::vector<int>& values) {
