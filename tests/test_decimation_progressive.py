@@ -117,6 +117,19 @@ def test_stop_rule_gives_the_base_mesh():
     assert len(Fd) == 200
 
 
+def test_large_mesh_decimated_in_parallel_parts():
+    # 327,680 faces: the collapses come from the parallel phase of decimate (spatial parts in
+    # rounds), so this checks that their order is a valid sequence of vertex splits.
+    V, F = datasets.icosphere(7)
+    V = V * (1 + 0.05 * np.sin(5 * V[:, [0]]) * np.cos(3 * V[:, [1]]))
+    pm = decimation.progressive_mesh(V, F)
+    for n in (pm.face_range[0], 3000, 30000, 200000):
+        assert_valid(*pm.at(n), chi=2)
+    pm.set_level(pm.n_splits)
+    np.testing.assert_array_equal(pm.mesh()[0], V)
+    np.testing.assert_array_equal(canonical_faces(pm.mesh()[1]), canonical_faces(F))
+
+
 @pytest.mark.parametrize("name", ["bunny.off", "fandisk.obj", "plane_holes.obj", "stanford-bunny.obj",
                                   "camelhead.off", "fertility.off"])
 def test_shared_meshes(data_dir, name):

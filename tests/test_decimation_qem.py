@@ -195,6 +195,70 @@ def test_collapse_records_replay_to_the_output():
     np.testing.assert_array_equal(V2, positions[origin])
 
 
+# --- the parallel phase (meshes of 100,000 faces or more) --------------------------------------
+
+@pytest.fixture(scope="module")
+def large_sphere():
+    return bumpy_sphere(7)  # 327,680 faces
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.01])
+def test_parallel_phase_keeps_the_invariants_and_the_quality(large_sphere, ratio):
+    V, F = large_sphere
+    distances = {}
+    for parallel in (True, False):
+        V2, F2, report = decimation.decimate(V, F, ratio=ratio, parallel=parallel, return_report=True)
+        target = round(ratio * len(F))
+        assert target - 2 <= len(F2) <= target and report.target_reached
+        assert topology.is_manifold(F2) and topology.is_oriented(F2)
+        assert topology.euler_characteristic(F2) == 2
+        assert report.collapse_count == len(V) - len(V2)
+        # No face turned over: each output face agrees with the input normal at its corners.
+        normals = geometry.vertex_normals(V, F)[report.vertex_origin]
+        assert (np.einsum("ij,ij->i", face_normals(V2, F2), normals[F2].sum(axis=1)) > 0).all()
+        distances[parallel] = relative_hausdorff(V, F, V2, F2)
+    # Measured: equal at 10%, +6% at 1%; on five upsampled shared meshes the geometric mean of
+    # parallel / serial is 0.98 (the Hausdorff distance of one greedy run moves by up to 19% when
+    # the input moves by 1e-7).
+    assert distances[True] <= 1.15 * distances[False], distances
+
+
+def test_parallel_result_does_not_depend_on_the_thread_count(large_sphere):
+    import subprocess
+    import sys
+    V, F = large_sphere
+    V2, F2 = decimation.decimate(V, F, ratio=0.05)
+    digest = f"{V2.sum():.17g} {F2.sum()} {len(F2)}"
+    one_core = subprocess.run([sys.executable, "-c", (
+        "import os; os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})\n"
+        "import numpy as np\n"
+        "from meshsmith import datasets, decimation\n"
+        "V, F = datasets.icosphere(7)\n"
+        "V = V * (1 + 0.05 * np.sin(5 * V[:, [0]]) * np.cos(3 * V[:, [1]]))\n"
+        "V2, F2 = decimation.decimate(V, F, ratio=0.05)\n"
+        "print(f'{V2.sum():.17g} {F2.sum()} {len(F2)}')")], capture_output=True, text=True, check=True)
+    assert one_core.stdout.strip() == digest
+
+
+def test_parallel_collapse_records_replay_to_the_output(large_sphere):
+    # The parts' collapses are recorded round by round; replayed in that order they must give
+    # the output (checked per collapse on positions and the faces that die).
+    V, F = large_sphere
+    V2, F2, report = decimation.decimate(V, F, ratio=0.1, record_collapses=True, return_report=True)
+    c = report.collapses
+    positions = [tuple(p) for p in V.tolist()]
+    alive = [True] * len(V)
+    for a, b, p_removed, p_before, p_after in zip(
+            c["removed"].tolist(), c["kept"].tolist(), c["removed_position"].tolist(),
+            c["kept_position_before"].tolist(), c["kept_position_after"].tolist()):
+        assert alive[a] and alive[b]
+        assert positions[a] == tuple(p_removed) and positions[b] == tuple(p_before)
+        alive[a] = False
+        positions[b] = tuple(p_after)
+    np.testing.assert_array_equal(np.flatnonzero(alive), np.sort(report.vertex_origin))
+    np.testing.assert_array_equal(V2, np.array(positions)[report.vertex_origin])
+
+
 # --- robustness -------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("name", ["cubes_complex_edge.obj", "cubes_complex_vertex.obj"])

@@ -52,7 +52,7 @@ void bind_decimation_qem(py::module_& m) {
   m.def("decimate_qem", [](const py::object& V, const py::object& F, Eigen::Index target_faces, double max_error,
                            const std::string& collapse, const std::string& cost, int candidates, std::uint64_t seed,
                            bool prevent_normal_flips, double max_normal_deviation_deg, double min_triangle_quality,
-                           int max_valence, bool keep_boundary, bool record_collapses, const py::object& callback) {
+                           int max_valence, bool keep_boundary, bool record_collapses, bool parallel, const py::object& callback) {
     const MeshArguments mesh(V, F);
     QemOptions options;
     options.target_faces = target_faces;
@@ -67,6 +67,7 @@ void bind_decimation_qem(py::module_& m) {
     options.max_valence = max_valence;
     options.keep_boundary = keep_boundary;
     options.record_collapses = record_collapses;
+    options.parallel = parallel;
     const Progress progress = make_progress(callback);
     QemResult result = without_gil([&] { return decimate_qem(mesh.V(), mesh.F(), options, progress); });
     py::dict report;
@@ -81,7 +82,7 @@ void bind_decimation_qem(py::module_& m) {
      py::arg("operator") = "edge", py::arg("cost") = "quadric", py::arg("candidates") = 0, py::arg("seed") = 0,
      py::arg("prevent_normal_flips") = true, py::arg("max_normal_deviation_deg") = 0.0,
      py::arg("min_triangle_quality") = 0.0, py::arg("max_valence") = 0, py::arg("keep_boundary") = true,
-     py::arg("record_collapses") = false, py::arg("progress") = py::none(),
+     py::arg("record_collapses") = false, py::arg("parallel") = true, py::arg("progress") = py::none(),
      "Incremental QEM decimation (§4.2). Returns (V, F, report); see meshsmith.decimation.decimate.");
 }
 

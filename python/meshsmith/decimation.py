@@ -113,7 +113,7 @@ class DecimationReport:
 def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="edge",
              cost="quadric", candidates=None, prevent_normal_flips=True,
              max_normal_deviation=None, min_quality=None, max_valence=None, keep_boundary=True,
-             seed=0, record_collapses=False, return_report=False, progress=None):
+             seed=0, record_collapses=False, return_report=False, parallel=True, progress=None):
     """Decimate a triangle mesh by greedy edge collapses ordered by error quadrics (§4.2).
 
     V: (n, 3) float array of vertex positions. F: (m, 3) int array of triangles.
@@ -131,6 +131,11 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     face's 4√3·area/Σedge² lower than this and lower than before); max_valence; keep_boundary
     (boundary vertices only slide along the boundary; default True). The link condition always
     holds: a manifold mesh stays manifold with the same Euler characteristic.
+    parallel: on meshes of 100,000 faces or more (quadric cost, full queue), the first 90% of the
+    collapses run on four spatial parts at once, in rounds under a common cost ceiling, and a
+    serial greedy run does the part borders and the rest (about 2× faster on 2 cores; the
+    result does not depend on the thread count). False: one serial greedy run, the strict
+    cheapest-first order.
     Faces with a repeated index are dropped; non-manifold or inconsistently oriented vertices
     are split into one copy per fan first (nothing is torn further). Unreferenced vertices are
     dropped. progress: optional callable ``(fraction, stage) -> bool | None``; returning False
@@ -164,7 +169,7 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
         candidates=candidates or 0, seed=seed, prevent_normal_flips=prevent_normal_flips,
         max_normal_deviation_deg=max_normal_deviation or 0.0, min_triangle_quality=min_quality or 0.0,
         max_valence=max_valence or 0, keep_boundary=keep_boundary,
-        record_collapses=record_collapses, progress=progress)
+        record_collapses=record_collapses, parallel=parallel, progress=progress)
     if not return_report:
         return V2, F2
     return V2, F2, DecimationReport(

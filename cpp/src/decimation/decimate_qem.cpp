@@ -1,8 +1,9 @@
-// Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh, error
-// quadrics, an addressable 4-ary heap updated in place, pluggable costs and fairness
-// criteria around one greedy loop.
+// Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh on the
+// input renumbered for locality, error quadrics, a radix-heap queue of collapses, pluggable costs
+// and fairness criteria around one greedy loop, run by spatial parts at once on large meshes.
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/parallel.h>
+#include <meshsmith/core/spatial_order.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/decimation/decimate.h>
 #include <meshsmith/decimation/quadric.h>
@@ -10,8 +11,13 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <functional>
+#include <memory>
 #include <limits>
 #include <string>
 #include <vector>
@@ -81,6 +87,40 @@ struct HalfedgeMesh {
   }
 };
 
+/// The input renumbered for memory locality: vertices in Morton order (core/spatial_order.h),
+/// faces stably sorted by their smallest new vertex index, so the neighbourhood of a collapse
+/// sits close together in every per-vertex and per-half-edge array (1.3× faster on 1.3M faces).
+struct LocalInput {
+  VertexMatrix V;
+  FaceMatrix F;
+  std::vector<int> vertex_order;  ///< new vertex → input vertex
+  int to_input(int working) const {  // working vertex → input numbering (split copies keep theirs)
+    return working >= 0 && working < static_cast<int>(vertex_order.size()) ? vertex_order[working] : working;
+  }
+};
+
+LocalInput renumber_for_locality(const VertexRef& V, const FaceRef& F) {
+  LocalInput local;
+  const int n = static_cast<int>(V.rows());
+  local.vertex_order = morton_order(V);
+  std::vector<int> new_index(n);
+  local.V.resize(n, 3);
+  for (int k = 0; k < n; ++k) {
+    new_index[local.vertex_order[k]] = k;
+    local.V.row(k) = V.row(local.vertex_order[k]);
+  }
+  std::vector<int> first(static_cast<std::size_t>(n) + 1, 0);  // counting sort by smallest new index
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    ++first[std::min({new_index[F(f, 0)], new_index[F(f, 1)], new_index[F(f, 2)]}) + 1];
+  for (int v = 0; v < n; ++v) first[v + 1] += first[v];
+  local.F.resize(F.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int a = new_index[F(f, 0)], b = new_index[F(f, 1)], c = new_index[F(f, 2)];
+    local.F.row(first[std::min({a, b, c})]++) << a, b, c;
+  }
+  return local;
+}
+
 /// Builds the half-edge mesh of F (faces with a repeated index dropped). Two half-edges are twins
 /// only when their edge has exactly these two, in opposite directions; every vertex whose faces
 /// then form more than one fan is split into one working vertex per fan (copies appended).
@@ -114,7 +154,7 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
     const int u = mesh.corner_vertex[h], w = mesh.corner_vertex[next_halfedge(h)];
     return u == v ? w : u;
   };
-  for (int v = 0; v < n; ++v) {
+  tbb::parallel_for(0, n, [&](int v) {  // each bucket writes only its own half-edges' twins
     const int begin = bucket_start[v], end = bucket_start[v + 1];
     for (int i = begin; i < end; ++i) {
       const int g = bucket[i], far = other_end(g, v);
@@ -123,7 +163,7 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
         if (j != i && other_end(bucket[j], v) == far) { ++partners; partner = bucket[j]; }
       if (partners == 1 && mesh.corner_vertex[g] != mesh.corner_vertex[partner]) mesh.opposite[g] = partner;
     }
-  }
+  });
 
   // One working vertex per fan: walk each fan from an unvisited outgoing half-edge.
   mesh.vertex_halfedge.assign(n, -1);
@@ -176,15 +216,26 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
 
 // ---------------------------------------------------------------------------------------------
 // Quadrics (§4.2.2, error quadrics): face planes weighted by area / mean area, plus constraint
-// planes through boundary edges, perpendicular to their face.
+// planes through boundary edges and sharp edges, perpendicular to their faces.
 // ---------------------------------------------------------------------------------------------
 
+/// Weights of the constraint planes through boundary and sharp edges, per squared edge length
+/// over the mean face area: unlike the area-weighted face planes, they do not fade where the
+/// triangles are small, so boundaries and creases keep their place however finely they were cut.
+/// Without the sharp-edge planes, fandisk at 1% lost a corner in 2 of 8 runs on inputs perturbed
+/// by 1e-9 (Hausdorff 0.026 of the diagonal instead of 0.010); with weight 1 they keep it, and
+/// weight 10 over-constrains organic meshes (nefertiti at 1%: +20%).
 constexpr double kBoundaryConstraintWeight = 10.0;
+constexpr double kSharpEdgeConstraintWeight = 1.0;
+/// An edge is sharp when its faces' normals differ by more than 60°.
+inline bool is_sharp(const Vec3& area_normal_a, const Vec3& area_normal_b) {
+  return area_normal_a.dot(area_normal_b) < 0.5 * area_normal_a.norm() * area_normal_b.norm();
+}
 
 std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_planes, const Progress& progress) {
   const int faces = static_cast<int>(mesh.face_alive.size());
   std::vector<Vec3> area_normal(faces);  // (twice the area) × unit normal
-  parallel_for_with_progress(faces, progress, "face planes", [&](Eigen::Index f) {
+  parallel_for_with_progress(faces, progress.subrange(0.0, 0.3), "face planes", [&](Eigen::Index f) {
     const Vec3& p = mesh.position[mesh.corner_vertex[3 * f]];
     const Vec3& q = mesh.position[mesh.corner_vertex[3 * f + 1]];
     const Vec3& r = mesh.position[mesh.corner_vertex[3 * f + 2]];
@@ -194,33 +245,40 @@ std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_pl
   for (const Vec3& a : area_normal) total += a.norm();
   const double mean_double_area = (faces > 0 && total > 0) ? total / faces : 1.0;
 
-  std::vector<Quadric> face_quadric(faces);
-  parallel_for_with_progress(faces, progress, "face quadrics", [&](Eigen::Index f) {
-    const double double_area = area_normal[f].norm();
-    if (!(double_area > 0)) return;  // a zero-area face has no plane
-    const Vec3 normal = area_normal[f] / double_area;
-    face_quadric[f] = Quadric::from_plane(normal, mesh.position[mesh.corner_vertex[3 * f]],
-                                          double_area / mean_double_area);
-  });
+  // The plane through the edge p→q perpendicular to the face with area normal n.
+  auto edge_constraint = [&](const Vec3& p, const Vec3& q, const Vec3& n, double weight, Quadric& sum) {
+    const Vec3 along = q - p;
+    const Vec3 side = along.cross(n);
+    const double length = side.norm();
+    if (length > 0) sum += Quadric::from_plane(side / length, p, weight * along.squaredNorm() / mean_double_area);
+  };
+  // Per vertex, in parallel (no per-face quadrics are stored): the planes of its faces, and the
+  // constraint planes of its boundary edges and its sharp edges.
   std::vector<Quadric> quadric(mesh.position.size());
-  for (int f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k) quadric[mesh.corner_vertex[3 * f + k]] += face_quadric[f];
-
-  if (boundary_planes) {
-    for (int h = 0; h < 3 * faces; ++h) {
-      if (mesh.opposite[h] >= 0) continue;
-      const Vec3& p = mesh.position[mesh.from(h)];
+  parallel_for_with_progress(static_cast<Eigen::Index>(quadric.size()), progress.subrange(0.3, 1.0), "quadrics",
+                             [&](Eigen::Index vertex) {
+    const int v = static_cast<int>(vertex);
+    Quadric sum;
+    mesh.for_each_outgoing(v, [&](int h) {
+      const int f = h / 3;
+      const Vec3& n = area_normal[f];
+      const double double_area = n.norm();
+      if (double_area > 0) sum += Quadric::from_plane(n / double_area, mesh.position[v], double_area / mean_double_area);
+      const int o = mesh.opposite[h];
+      const Vec3& p = mesh.position[v];
       const Vec3& q = mesh.position[mesh.to(h)];
-      const Vec3 along = q - p;
-      const Vec3 side = along.cross(area_normal[h / 3]);
-      const double length = side.norm();
-      if (!(length > 0)) continue;
-      const Quadric constraint = Quadric::from_plane(
-          side / length, p, kBoundaryConstraintWeight * along.squaredNorm() / mean_double_area);
-      quadric[mesh.from(h)] += constraint;
-      quadric[mesh.to(h)] += constraint;
-    }
-  }
+      if (o < 0) {
+        if (boundary_planes) edge_constraint(p, q, n, kBoundaryConstraintWeight, sum);
+      } else if (is_sharp(n, area_normal[o / 3])) {
+        edge_constraint(p, q, n, kSharpEdgeConstraintWeight, sum);
+        edge_constraint(p, q, area_normal[o / 3], kSharpEdgeConstraintWeight, sum);
+      }
+      const int incoming = prev_halfedge(h);
+      if (boundary_planes && mesh.opposite[incoming] < 0)
+        edge_constraint(mesh.position[mesh.from(incoming)], p, n, kBoundaryConstraintWeight, sum);
+    });
+    quadric[v] = sum;
+  });
   return quadric;
 }
 
@@ -247,17 +305,22 @@ Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
   // power iteration from A's column of largest diagonal gives the top eigenvector u and
   // λ₁ = uᵀAu; when the other two sum to tr A − λ₁ ≤ ½·10⁻³ λ₁, both are surely below the cut
   // and the minimiser is reference + u·uᵀ(−b − A·reference)/λ₁. Each step shrinks the error in
-  // u by λ₂/λ₁ < ½·10⁻³, so four reach round-off.
-  if (trace > 0) {
-    const Eigen::Matrix3d a = q.A();
-    Eigen::Index largest;
-    a.diagonal().maxCoeff(&largest);
-    Vec3 u = a.col(largest);
-    for (int step = 0; step < 4; ++step) u = (a * u).normalized();
-    const Vec3 au = a * u;
+  // u by λ₂/λ₁ < ½·10⁻³, so four reach round-off. The quadric's weights make λ₁ of order one,
+  // so the powers need no normalization between the steps.
+  if (trace > 0) {  // scalar code on the six distinct entries (Eigen's 3×3 products did not inline)
+    auto times_a = [&q](const Vec3& x) -> Vec3 {
+      return {q.a00 * x[0] + q.a01 * x[1] + q.a02 * x[2], q.a01 * x[0] + q.a11 * x[1] + q.a12 * x[2],
+              q.a02 * x[0] + q.a12 * x[1] + q.a22 * x[2]};
+    };
+    const Vec3 start = (q.a00 >= q.a11 && q.a00 >= q.a22) ? Vec3(q.a00, q.a01, q.a02)
+                       : (q.a11 >= q.a22)                  ? Vec3(q.a01, q.a11, q.a12)
+                                                           : Vec3(q.a02, q.a12, q.a22);
+    Vec3 u = times_a(times_a(times_a(times_a(start))));
+    u.normalize();
+    const Vec3 au = times_a(u);
     const double lambda = u.dot(au);
     if (lambda > 0 && std::isfinite(lambda) && trace - lambda <= 0.5e-3 * lambda) {
-      const Vec3 residual = -q.b() - a * reference;
+      const Vec3 residual = -q.b() - times_a(reference);
       return reference + u * (u.dot(residual) / lambda);
     }
   }
@@ -277,13 +340,13 @@ struct Candidate {
 
 class Decimator {
  public:
-  Decimator(HalfedgeMesh& mesh, const QemOptions& options)
-      : mesh_(mesh), options_(options), mark_(mesh.position.size(), 0) {
+  /// `quadric`: per working vertex, shared by every Decimator of the mesh (each owns only its
+  /// scratch marks, so several can work on disjoint parts of one mesh at the same time).
+  Decimator(HalfedgeMesh& mesh, std::vector<Quadric>& quadric, const QemOptions& options)
+      : mesh_(mesh), options_(options), quadric_(quadric), mark_(mesh.position.size(), 0) {
     if (options_.max_normal_deviation_deg > 0)
       min_normal_cosine_ = std::cos(options_.max_normal_deviation_deg * kDegree);
   }
-
-  void set_quadrics(std::vector<Quadric> quadric) { quadric_ = std::move(quadric); }
 
   /// The best collapse of the edge of half-edge h (either direction, as the operator and the
   /// boundary rule allow); cost = ∞ when none is allowed.
@@ -526,118 +589,111 @@ class Decimator {
 
   HalfedgeMesh& mesh_;
   const QemOptions& options_;
-  std::vector<Quadric> quadric_;
+  std::vector<Quadric>& quadric_;
   std::vector<int> mark_;
   int stamp_ = 0;
   double min_normal_cosine_ = -2;
 };
 
-/// An addressable 4-ary min-heap of 8-byte entries, at most one per edge: the four children of
-/// a node share a cache line, so a sift touches half as many lines as a binary heap's would (the
-/// queue holds millions), and `slot_` (per half-edge: its entry's index, −1 when none) lets a
-/// changed edge's key move in place and a dying edge's entry leave at once.
-struct QueueEntry {
-  float cost;  // single precision: the key only orders; the collapse re-evaluates in double
-  int edge;    // canonical half-edge of the edge
-};
-
+/// The queue of collapses: a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan 1990) on 64-bit keys
+/// (the cost's float bits, then the squared edge length's, so equal costs go to the shorter edge
+/// first), with lazy deletion. It relies on the costs being monotone — a collapse only adds to
+/// the quadrics, so the new costs around it are at least the popped one — and clamps the rare
+/// key below the last popped one (a re-tried rejected edge, round-off in the pseudo-inverse) up
+/// to it. Pushes and pops are appends and scans of short vectors, instead of a 4-ary heap's
+/// sifts through a queue of millions (the heap took a quarter of the time at 1.3M faces).
+/// `queued_cost` (per half-edge; +∞: not queued) holds each edge's current cost; an entry whose
+/// cost differs is stale and skipped. Queues that hold disjoint edges may share it.
 class CollapseQueue {
  public:
-  CollapseQueue(std::size_t edge_slots, const HalfedgeMesh& mesh) : slot_(edge_slots, -1), mesh_(mesh) {}
-  void reserve(std::size_t n) { entries_.reserve(n); }
-  bool empty() const { return entries_.empty(); }
-  /// Adds without ordering (edge not queued yet); call heapify() before the first pop.
-  void append(const QueueEntry& e) {
-    slot_[e.edge] = static_cast<int>(entries_.size());
-    entries_.push_back(e);
-  }
-  void heapify() {
-    for (std::size_t i = entries_.size() / 4 + 1; i-- > 0;) sift_down(i);
-  }
-  /// Inserts the edge's entry, or moves its key when it has one.
-  void set(const QueueEntry& e) {
-    const int i = slot_[e.edge];
-    if (i < 0) {
-      entries_.push_back(e);
-      sift_up(entries_.size() - 1);
-      return;
-    }
-    const QueueEntry old = entries_[i];
-    entries_[i].cost = e.cost;
-    if (less(e, old)) sift_up(i);
-    else if (less(old, e)) sift_down(i);
+  static constexpr float kNotQueued = std::numeric_limits<float>::infinity();
+
+  CollapseQueue(std::vector<float>& queued_cost, const HalfedgeMesh& mesh) : cost_(queued_cost), mesh_(mesh) {}
+
+  /// Queues the edge (a canonical half-edge) at `cost` (finite), replacing its entry if any.
+  void set(int edge, float cost) {
+    float& current = cost_[edge];
+    if (current == kNotQueued) ++live_;
+    current = cost;
+    const float length = static_cast<float>(
+        (mesh_.position[mesh_.from(edge)] - mesh_.position[mesh_.to(edge)]).squaredNorm());
+    const std::uint64_t key = (std::uint64_t(ordered_bits(cost)) << 32) | ordered_bits(length);
+    push({key, edge, cost});
   }
   /// Drops the edge's entry, if it has one.
   void remove(int edge) {
-    const int i = slot_[edge];
-    if (i < 0) return;
-    slot_[edge] = -1;
-    const QueueEntry last = entries_.back();
-    entries_.pop_back();
-    if (static_cast<std::size_t>(i) == entries_.size()) return;
-    entries_[i] = last;
-    slot_[last.edge] = i;
-    sift_up(i);
-    sift_down(slot_[last.edge]);
+    float& current = cost_[edge];
+    if (current != kNotQueued) {
+      current = kNotQueued;
+      --live_;
+    }
   }
-  const QueueEntry& top() const { return entries_.front(); }
-  void prefetch(int edge) const { __builtin_prefetch(&slot_[edge]); }
-  /// The smallest key below the top (+∞ when the top is alone).
-  float runner_up_cost() const {
-    float best = std::numeric_limits<float>::infinity();
-    for (std::size_t c = 1; c < std::min<std::size_t>(5, entries_.size()); ++c) best = std::min(best, entries_[c].cost);
-    return best;
+  /// Brings the cheapest live entry to the top; false when the queue is empty.
+  bool settle() {
+    while (true) {
+      if (live_ == 0) {
+        for (auto& bucket : buckets_) bucket.clear();
+        return false;
+      }
+      std::vector<Entry>& first = buckets_[0];
+      while (!first.empty() && !is_live(first.front())) {
+        std::pop_heap(first.begin(), first.end(), later);
+        first.pop_back();
+      }
+      if (!first.empty()) return true;
+      int i = 1;
+      while (buckets_[i].empty()) ++i;  // live_ > 0: some bucket holds a live entry
+      std::vector<Entry>& bucket = buckets_[i];
+      std::uint64_t lowest = std::numeric_limits<std::uint64_t>::max();
+      for (const Entry& e : bucket)
+        if (is_live(e)) lowest = std::min(lowest, e.key);
+      if (lowest != std::numeric_limits<std::uint64_t>::max()) {
+        last_ = lowest;  // every live key of this bucket now lands in a lower one
+        for (const Entry& e : bucket)
+          if (is_live(e)) buckets_[bucket_of(e.key)].push_back(e);
+        std::make_heap(first.begin(), first.end(), later);
+      }
+      bucket.clear();
+    }
   }
-  void pop() { remove(entries_.front().edge); }
+  /// The top's edge and cost (after settle() returned true).
+  int top_edge() const { return buckets_[0].front().edge; }
+  float top_cost() const { return buckets_[0].front().cost; }
+  /// Removes the top (after settle() returned true).
+  void pop() {
+    remove(buckets_[0].front().edge);
+    std::pop_heap(buckets_[0].begin(), buckets_[0].end(), later);
+    buckets_[0].pop_back();
+  }
+  void prefetch(int edge) const { __builtin_prefetch(&cost_[edge]); }
 
  private:
-  void place(std::size_t i, const QueueEntry& e) {
-    entries_[i] = e;
-    slot_[e.edge] = static_cast<int>(i);
+  struct Entry {
+    std::uint64_t key;
+    int edge;
+    float cost;
+  };
+  /// The float's bits, mapped so that unsigned order is the floats' order (negatives too).
+  static std::uint32_t ordered_bits(float x) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
   }
-  void sift_up(std::size_t i) {
-    const QueueEntry moving = entries_[i];
-    while (i > 0) {
-      const std::size_t parent = (i - 1) / 4;
-      if (!less(moving, entries_[parent])) break;
-      place(i, entries_[parent]);
-      i = parent;
-    }
-    place(i, moving);
+  bool is_live(const Entry& e) const { return cost_[e.edge] == e.cost; }
+  /// Keys at or below the last settled one go to bucket 0, a binary heap on (key, half-edge), so
+  /// the order is exactly the one of a heap on all entries.
+  int bucket_of(std::uint64_t key) const { return key <= last_ ? 0 : 64 - __builtin_clzll(key ^ last_); }
+  static bool later(const Entry& x, const Entry& y) { return x.key != y.key ? x.key > y.key : x.edge > y.edge; }
+  void push(const Entry& e) {
+    const int b = bucket_of(e.key);
+    buckets_[b].push_back(e);
+    if (b == 0) std::push_heap(buckets_[0].begin(), buckets_[0].end(), later);
   }
-  void sift_down(std::size_t i) {
-    const std::size_t n = entries_.size();
-    if (i >= n) return;
-    const QueueEntry moving = entries_[i];
-    while (true) {
-      const std::size_t first = 4 * i + 1;
-      if (first >= n) break;
-      // The grandchildren (16 entries, two cache lines) are fetched while the children compare.
-      const std::size_t grandchildren = 4 * first + 1;
-      if (grandchildren < n) {
-        __builtin_prefetch(entries_.data() + grandchildren);
-        __builtin_prefetch(entries_.data() + std::min(grandchildren + 8, n - 1));
-      }
-      std::size_t best = first;
-      const std::size_t last = std::min(first + 4, n);
-      for (std::size_t c = first + 1; c < last; ++c)
-        if (less(entries_[c], entries_[best])) best = c;
-      if (!less(entries_[best], moving)) break;
-      place(i, entries_[best]);
-      i = best;
-    }
-    place(i, moving);
-  }
-  /// Key order; ties (many exactly flat collapses cost 0) go to the shorter edge, then the smaller
-  /// half-edge, so the order does not depend on the heap's layout.
-  bool less(const QueueEntry& x, const QueueEntry& y) const {
-    if (x.cost != y.cost) return x.cost < y.cost;
-    const double lx = (mesh_.position[mesh_.from(x.edge)] - mesh_.position[mesh_.to(x.edge)]).squaredNorm();
-    const double ly = (mesh_.position[mesh_.from(y.edge)] - mesh_.position[mesh_.to(y.edge)]).squaredNorm();
-    return lx < ly || (lx == ly && x.edge < y.edge);
-  }
-  std::vector<QueueEntry> entries_;
-  std::vector<int> slot_;
+
+  std::vector<Entry> buckets_[65];
+  std::uint64_t last_ = 0;  ///< the key of the last settled top; every entry's key is >= it
+  std::size_t live_ = 0;
+  std::vector<float>& cost_;
   const HalfedgeMesh& mesh_;
 };
 
@@ -660,6 +716,178 @@ void check_options(const QemOptions& options) {
                      std::to_string(options.max_normal_deviation_deg));
 }
 
+// ---------------------------------------------------------------------------------------------
+// The greedy loop, run once over the whole mesh or, on large meshes, by spatial parts at once.
+// ---------------------------------------------------------------------------------------------
+
+/// Full priority queue, updated eagerly: a collapse re-costs every edge around the kept vertex
+/// (the only ones whose quadric, position or boundary flag changed) and moves its key in place;
+/// the entries of the edges that die or are glued (renamed) leave before the collapse. Each edge
+/// has at most one entry, so no dead entries are popped. The top is still re-evaluated and goes
+/// back if its cost grew past the next key (costs that depend on the wider ring). An edge
+/// rejected by the checks leaves the queue until an edge at one of its ends collapses.
+/// With `locked` (per working vertex; the parallel phase locks the vertices that have a
+/// neighbour in another part), edges with a locked end are never queued or collapsed. A run then
+/// edits only faces whose corners are all in its part and the data of its part's vertices; the
+/// faces across part borders and the other parts' vertices are not even read, which is what
+/// lets the parts run at the same time without locks. (Letting a vertex collapse into a locked
+/// one, which stays put, was measured: Hausdorff 13% worse on average, 2.5× on fandisk at 10%.)
+class GreedyCollapser {
+ public:
+  GreedyCollapser(HalfedgeMesh& mesh, std::vector<Quadric>& quadric, const QemOptions& options,
+                  std::vector<float>& queued_cost, const std::uint8_t* locked)
+      : mesh_(mesh), options_(options), decimator_(mesh, quadric, options), heap_(queued_cost, mesh), locked_(locked) {
+    ring_.reserve(64);
+  }
+
+  bool may_queue(int edge) const {
+    return locked_ == nullptr || (!locked_[mesh_.from(edge)] && !locked_[mesh_.to(edge)]);
+  }
+  Candidate evaluate(int edge) const { return decimator_.evaluate(edge); }
+  void queue(int edge, float cost) { heap_.set(edge, cost); }
+  /// The cost of the cheapest queued edge (+∞ when none).
+  double top_cost() { return heap_.settle() ? heap_.top_cost() : kInfinity; }
+
+  /// Collapses the cheapest admissible edges while their cost is at most `ceiling` and fewer
+  /// than `face_budget` faces were removed; `step` (optional) runs after each collapse and ends
+  /// the run when it returns false.
+  void run(double ceiling, Eigen::Index face_budget, const std::function<bool()>* step) {
+    const Eigen::Index stop = faces_removed + face_budget;
+    while (faces_removed < stop && heap_.settle()) {
+      const int e = heap_.top_edge();
+      const Candidate c = decimator_.evaluate(e);
+      if (c.cost < kInfinity && static_cast<float>(c.cost) > heap_.top_cost()) {
+        heap_.set(e, static_cast<float>(c.cost));  // its cost grew: maybe not the cheapest now
+        continue;
+      }
+      if (c.cost > ceiling) return;  // stays queued for a later round
+      heap_.pop();
+      if (!(c.cost < kInfinity) || !decimator_.is_admissible(c)) continue;  // re-queued when its ring changes
+      const Decimator::Resolved dying = decimator_.resolve(c.halfedge);
+      drop_face_edges(dying.halfedge_removed_to_kept);
+      drop_face_edges(dying.twin);
+      faces_removed += decimator_.removed_faces_of(c);
+      const CollapseRecord record = decimator_.collapse(c);
+      max_cost = std::max(max_cost, c.cost);
+      ++collapse_count;
+      if (options_.record_collapses) records.push_back(record);
+      requeue_around(record.kept);
+      if (step && !(*step)()) return;
+    }
+  }
+
+  Eigen::Index faces_removed = 0, collapse_count = 0;
+  double max_cost = 0;
+  std::vector<CollapseRecord> records;  ///< in working vertex numbering
+
+ private:
+  void requeue(int edge) {
+    const double c = decimator_.evaluate(edge).cost;
+    if (c < kInfinity) heap_.set(edge, static_cast<float>(c));
+    else heap_.remove(edge);
+  }
+  /// The edges of h's face, which dies or is glued away, leave the queue.
+  void drop_face_edges(int h) {
+    if (h < 0) return;
+    const int first = 3 * (h / 3);
+    for (int g = first; g < first + 3; ++g) {
+      heap_.remove(g);
+      if (mesh_.opposite[g] >= 0) heap_.remove(mesh_.opposite[g]);
+    }
+  }
+  /// The kept vertex's edges: gathered (their far ends and heap slots fetched meanwhile), then
+  /// re-costed.
+  void requeue_around(int kept) {
+    ring_.clear();
+    mesh_.for_each_outgoing(kept, [&](int h) {
+      if (may_queue(h)) {
+        ring_.push_back(mesh_.canonical(h));
+        decimator_.prefetch_vertex(mesh_.to(h));
+        heap_.prefetch(ring_.back());
+      }
+      const int incoming = prev_halfedge(h);
+      if (mesh_.opposite[incoming] < 0 && may_queue(incoming)) {
+        ring_.push_back(incoming);
+        decimator_.prefetch_vertex(mesh_.from(incoming));
+        heap_.prefetch(incoming);
+      }
+    });
+    for (const int edge : ring_) requeue(edge);
+  }
+
+  HalfedgeMesh& mesh_;
+  const QemOptions& options_;
+  Decimator decimator_;
+  CollapseQueue heap_;
+  const std::uint8_t* locked_;
+  std::vector<int> ring_;
+};
+
+/// Meshes with at least this many faces run the parallel phase first.
+constexpr int kParallelMinFaces = 100000;
+/// Spatial parts of the parallel phase: fixed (not the thread count), so the result does not
+/// depend on the machine.
+constexpr int kParallelParts = 4;
+/// The cost ceiling of each round of the parallel phase is this factor above the last one (or
+/// the cheapest queued cost, when higher).
+constexpr double kCeilingGrowth = 1.5;
+
+/// The face count at which the parallel phase hands over to the serial finish (0: no parallel
+/// phase): the serial run does the last 10% of the collapses and the part borders, in global
+/// order. The multiple-choice variant and non-quadric costs (not monotone) run serially.
+Eigen::Index parallel_phase_stop(Eigen::Index faces, Eigen::Index target, const QemOptions& options) {
+  if (!options.parallel || faces < kParallelMinFaces || options.candidates != 0 || options.cost != CollapseCost::quadric) return 0;
+  if (target <= 0) return 1;  // max_error alone: the ceiling stops the phase
+  return target + (faces - target) / 10;
+}
+
+/// The part of working vertex v among `parts` equal ranges of [0, vertices) rotated by `shift`.
+int part_of(int v, int vertices, int parts, int shift) {
+  return static_cast<int>(static_cast<std::int64_t>((v + shift) % vertices) * parts / vertices);
+}
+
+/// Per working vertex: 1 when it has a neighbour in another part (its edges wait for the
+/// serial finish).
+template <typename PartOf>
+std::vector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const PartOf& part) {
+  const int n = static_cast<int>(mesh.position.size());
+  std::vector<std::uint8_t> locked(n, 0);
+  tbb::parallel_for(0, n, [&](int v) {
+    const int own = part(v);
+    mesh.for_each_neighbour(v, [&](int u) {
+      if (part(u) != own) locked[v] = 1;
+    });
+  });
+  return locked;
+}
+
+/// Fills each run's queue with its edges (an edge belongs to the part of its smaller half-edge's
+/// start vertex, and is skipped when that run may not queue it). `queued_cost` (the runs' shared
+/// per-edge costs) may still hold the costs of the runs before: an edge queued then keeps its
+/// cost; an edge that was not is costed (in parallel) only when `was_locked` (the previous
+/// runs' locks; null: none ran yet) held one of its ends — one rejected by the checks stays out
+/// until its ring changes, as in a single run.
+template <typename PartOf>
+void fill_queues(const HalfedgeMesh& mesh, std::vector<std::unique_ptr<GreedyCollapser>>& runs, const PartOf& part,
+                 std::vector<float>& queued_cost, const std::vector<std::uint8_t>* was_locked,
+                 const Progress& progress) {
+  const Eigen::Index halfedges = static_cast<Eigen::Index>(mesh.corner_vertex.size());
+  constexpr float kNone = CollapseQueue::kNotQueued;
+  std::vector<float> cost(static_cast<std::size_t>(halfedges), kNone);
+  parallel_for_with_progress(halfedges, progress, "edge costs", [&](Eigen::Index h) {
+    const int edge = static_cast<int>(h);
+    if (mesh.canonical(edge) != edge || !mesh.face_alive[edge / 3]) return;
+    const GreedyCollapser& run = *runs[part(mesh.from(edge))];
+    if (!run.may_queue(edge)) return;
+    if (queued_cost[h] != kNone) cost[h] = queued_cost[h];
+    else if (!was_locked || (*was_locked)[mesh.from(edge)] || (*was_locked)[mesh.to(edge)])
+      cost[h] = static_cast<float>(run.evaluate(edge).cost);
+  });
+  std::fill(queued_cost.begin(), queued_cost.end(), kNone);
+  for (Eigen::Index h = 0; h < halfedges; ++h)
+    if (cost[h] != kNone) runs[part(mesh.from(static_cast<int>(h)))]->queue(static_cast<int>(h), cost[h]);
+}
+
 /// splitmix64: the multiple-choice variant's random stream.
 struct SplitMix64 {
   std::uint64_t state;
@@ -679,12 +907,12 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   if (V.rows() >= std::numeric_limits<int>::max() / 4 || F.rows() >= std::numeric_limits<int>::max() / 4)
     throw InputError("decimate: mesh too large (more than 2^29 vertices or faces)");
 
-  HalfedgeMesh mesh = build_halfedge_mesh(V, F);
+  const LocalInput local = renumber_for_locality(V, F);
+  HalfedgeMesh mesh = build_halfedge_mesh(local.V, local.F);
   const int face_slots = static_cast<int>(mesh.face_alive.size());
   if (face_slots == 0)
     throw InputError("decimate: every face of F has a repeated vertex index: no triangle to decimate");
-  Decimator decimator(mesh, options);
-  decimator.set_quadrics(initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1)));
+  std::vector<Quadric> quadric = initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1));
 
   QemResult result;
   Eigen::Index faces = face_slots;
@@ -692,88 +920,99 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   const double max_error = options.max_error > 0 ? options.max_error : kInfinity;
   const Progress loop_progress = progress.subrange(0.2, 0.98);
   const Eigen::Index to_remove = target > 0 ? std::max<Eigen::Index>(faces - target, 1) : faces;
-  auto report = [&] {
-    loop_progress.report(std::min(1.0, static_cast<double>(face_slots - faces) / static_cast<double>(to_remove)),
+  auto report = [&](Eigen::Index faces_now) {
+    loop_progress.report(std::min(1.0, static_cast<double>(face_slots - faces_now) / static_cast<double>(to_remove)),
                          "collapses");
   };
-  auto perform = [&](const Candidate& c) {
-    faces -= decimator.removed_faces_of(c);
-    CollapseRecord record = decimator.collapse(c);
-    result.max_collapse_error = std::max(result.max_collapse_error, c.cost);
-    ++result.collapse_count;
-    if (options.record_collapses) result.collapses.push_back(record);
-    return record;
+  // Collapses are recorded in the input's vertex numbering.
+  auto keep_record = [&](CollapseRecord record) {
+    for (int* v : {&record.removed, &record.kept, &record.left, &record.right}) *v = local.to_input(*v);
+    result.collapses.push_back(record);
   };
   auto done = [&] { return target > 0 && faces <= target; };
 
   if (options.candidates == 0) {
-    // Full priority queue, updated eagerly: a collapse re-costs every edge around the kept vertex
-    // (the only ones whose quadric, position or boundary flag changed) and moves its key in place;
-    // the entries of the edges that die or are glued (renamed) leave before the collapse. Each
-    // edge has at most one entry, so no dead entries are popped. The top is still re-evaluated
-    // and goes back if its cost grew past the next key (costs that depend on the wider ring).
-    // An edge rejected by the checks leaves the queue until an edge at one of its ends collapses.
-    CollapseQueue heap(3 * static_cast<std::size_t>(face_slots), mesh);
-    {
-      std::vector<float> cost(3 * static_cast<std::size_t>(face_slots), std::numeric_limits<float>::infinity());
-      parallel_for_with_progress(3 * static_cast<Eigen::Index>(face_slots), progress.subrange(0.1, 0.2),
-                                 "edge costs", [&](Eigen::Index h) {
-        if (mesh.canonical(static_cast<int>(h)) == h) cost[h] = static_cast<float>(decimator.evaluate(static_cast<int>(h)).cost);
-      });
-      heap.reserve(cost.size() / 2 + 16);
-      for (std::size_t h = 0; h < cost.size(); ++h)
-        if (cost[h] < std::numeric_limits<float>::infinity()) heap.append({cost[h], static_cast<int>(h)});
-      heap.heapify();
-    }
-    auto requeue = [&](int edge) {
-      const double c = decimator.evaluate(edge).cost;
-      if (c < kInfinity) heap.set({static_cast<float>(c), edge});
-      else heap.remove(edge);
+    std::vector<float> queued_cost(3 * static_cast<std::size_t>(face_slots), CollapseQueue::kNotQueued);
+    auto absorb = [&](GreedyCollapser& run) {  // a finished run's counts and records into the result
+      faces -= run.faces_removed;
+      result.collapse_count += run.collapse_count;
+      result.max_collapse_error = std::max(result.max_collapse_error, run.max_cost);
+      for (const CollapseRecord& record : run.records) keep_record(record);
+      run.faces_removed = run.collapse_count = 0;
+      run.records.clear();
     };
-    auto drop_face_edges = [&](int h) {  // the edges of h's face, which dies or is glued away
-      if (h < 0) return;
-      const int first = 3 * (h / 3);
-      for (int g = first; g < first + 3; ++g) {
-        heap.remove(g);
-        if (mesh.opposite[g] >= 0) heap.remove(mesh.opposite[g]);
-      }
-    };
-    std::vector<int> ring;
-    ring.reserve(64);
-    while (!done() && !heap.empty()) {
-      const int e = heap.top().edge;
-      const Candidate c = decimator.evaluate(e);
-      if (c.cost < kInfinity && static_cast<float>(c.cost) > heap.runner_up_cost()) {
-        heap.set({static_cast<float>(c.cost), e});  // its cost grew: not the cheapest now
-        continue;
-      }
-      heap.pop();
-      if (c.cost > max_error) break;
-      if (!(c.cost < kInfinity) || !decimator.is_admissible(c)) continue;  // re-queued when its ring changes
-      const Decimator::Resolved dying = decimator.resolve(c.halfedge);
-      drop_face_edges(dying.halfedge_removed_to_kept);
-      drop_face_edges(dying.twin);
-      const CollapseRecord record = perform(c);
-      // The kept vertex's edges: gathered (their far ends and heap slots fetched meanwhile), then
-      // re-costed.
-      ring.clear();
-      mesh.for_each_outgoing(record.kept, [&](int h) {
-        ring.push_back(mesh.canonical(h));
-        decimator.prefetch_vertex(mesh.to(h));
-        heap.prefetch(ring.back());
-        const int incoming = prev_halfedge(h);
-        if (mesh.opposite[incoming] < 0) {
-          ring.push_back(incoming);
-          decimator.prefetch_vertex(mesh.from(incoming));
-          heap.prefetch(incoming);
+    const Eigen::Index parallel_stop = parallel_phase_stop(face_slots, target, options);
+    std::vector<std::uint8_t> was_locked;  // the locks of the last stage of the parallel phase
+    if (parallel_stop > 0) {
+      // Parallel phase (large meshes): the mesh is cut into spatial parts (ranges of the Morton
+      // numbering), each decimated by its own greedy run over the edges whose ends are not next
+      // to another part — such collapses touch nothing outside their part, so the parts run at
+      // once. The parts advance in rounds under a common cost ceiling, which keeps them at the
+      // same error level, as one global queue would. The phase goes in stages that each halve
+      // the face count, with the part borders shifted by half a part from one stage to the
+      // next, so a border left fine in one stage is decimated inside a part in the next (with
+      // fixed borders, fine strips of the input stay until the end and the worst error sits
+      // there: +70% Hausdorff at 1%). The serial finish below collapses the last borders and
+      // reaches the target in global order.
+      const int parts = kParallelParts;
+      const int vertices = static_cast<int>(mesh.position.size());
+      double ceiling = -kInfinity;
+      bool exhausted = false;  // no collapse left under max_error
+      for (int stage = 0; faces > parallel_stop && !exhausted; ++stage) {
+        const int shift = (stage % 2) * (vertices / (2 * parts));
+        const auto part = [&](int v) { return part_of(v, vertices, parts, shift); };
+        std::vector<std::uint8_t> locked = part_border_vertices(mesh, part);
+        std::vector<std::unique_ptr<GreedyCollapser>> runs;
+        for (int p = 0; p < parts; ++p)
+          runs.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, locked.data()));
+        fill_queues(mesh, runs, part, queued_cost, stage == 0 ? nullptr : &was_locked,
+                    stage == 0 ? progress.subrange(0.1, 0.2) : Progress());
+        const Eigen::Index stage_start = faces, stage_stop = std::max(parallel_stop, faces / 2);
+        while (faces > stage_stop) {
+          double lowest = kInfinity;
+          for (const auto& run : runs) lowest = std::min(lowest, run->top_cost());
+          if (!(lowest < kInfinity)) break;  // every edge left is on a border
+          if (!(lowest <= max_error)) { exhausted = true; break; }
+          ceiling = std::min(max_error, std::max(lowest, kCeilingGrowth * ceiling));
+          // Each part may take an equal share of what is left to remove in this stage, so a
+          // round cannot overshoot it by much.
+          const Eigen::Index share = (faces - stage_stop) / parts + 2;
+          const Eigen::Index before = faces;
+          tbb::parallel_for(0, parts, [&](int p) { runs[p]->run(ceiling, share, nullptr); });
+          for (const auto& run : runs) absorb(*run);
+          report(faces);
+          if (faces == before && ceiling >= max_error) { exhausted = true; break; }
         }
-      });
-      for (const int edge : ring) requeue(edge);
-      report();
+        if (faces == stage_start) exhausted = true;
+        runs.clear();
+        was_locked = std::move(locked);
+      }
+    }
+    // Serial greedy run over every edge (the whole decimation on smaller meshes).
+    {
+      std::vector<std::unique_ptr<GreedyCollapser>> single;
+      single.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, nullptr));
+      fill_queues(mesh, single, [](int) { return 0; }, queued_cost, was_locked.empty() ? nullptr : &was_locked,
+                  progress.subrange(0.1, 0.2));
+      GreedyCollapser& serial = *single.front();
+      const std::function<bool()> step = [&] {
+        report(faces - serial.faces_removed);
+        return true;
+      };
+      serial.run(max_error, target > 0 ? faces - target : std::numeric_limits<Eigen::Index>::max(), &step);
+      absorb(serial);
     }
   } else {
     // Multiple choice (Wu & Kobbelt 2002): the best of k random live edges each step. Live faces
     // are kept in a list with O(1) removal so the sampling stays uniform as faces die.
+    Decimator decimator(mesh, quadric, options);
+    auto perform = [&](const Candidate& c) {
+      faces -= decimator.removed_faces_of(c);
+      const CollapseRecord record = decimator.collapse(c);
+      result.max_collapse_error = std::max(result.max_collapse_error, c.cost);
+      ++result.collapse_count;
+      if (options.record_collapses) keep_record(record);
+    };
     std::vector<int> live(face_slots), slot_of(face_slots);
     for (int f = 0; f < face_slots; ++f) live[f] = slot_of[f] = f;
     SplitMix64 random{options.seed};
@@ -802,7 +1041,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
         slot_of[live[s]] = s;
         live.pop_back();
       }
-      report();
+      report(faces);
     }
   }
   loop_progress.report(1.0, "collapses");
@@ -822,7 +1061,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   for (std::size_t v = 0; v < new_index.size(); ++v)
     if (new_index[v] >= 0) {
       result.V.row(new_index[v]) = mesh.position[v].transpose();
-      result.vertex_origin(new_index[v]) = mesh.split_origin.empty() ? static_cast<int>(v) : mesh.split_origin[v];
+      result.vertex_origin(new_index[v]) = local.to_input(mesh.split_origin.empty() ? static_cast<int>(v) : mesh.split_origin[v]);
     }
   result.F.resize(faces, 3);
   Eigen::Index row = 0;
@@ -831,9 +1070,11 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       for (int k = 0; k < 3; ++k) result.F(row, k) = new_index[mesh.corner_vertex[3 * f + k]];
       ++row;
     }
-  if (!mesh.split_origin.empty())
-    result.split_vertex_origin = Eigen::Map<const Eigen::VectorXi>(mesh.split_origin.data(),
-                                                                   static_cast<Eigen::Index>(mesh.split_origin.size()));
+  if (!mesh.split_origin.empty()) {  // in the input's numbering: the input vertices, then the copies
+    result.split_vertex_origin.resize(static_cast<Eigen::Index>(mesh.split_origin.size()));
+    for (std::size_t w = 0; w < mesh.split_origin.size(); ++w)
+      result.split_vertex_origin(local.to_input(static_cast<int>(w))) = local.to_input(mesh.split_origin[w]);
+  }
   progress.report(1.0, "decimate");
   return result;
 }

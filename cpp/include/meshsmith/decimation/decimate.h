@@ -61,6 +61,9 @@ struct QemOptions {
   bool keep_boundary = true;
   /// Fill QemResult::collapses (the vertex splits of a progressive mesh, §4.3).
   bool record_collapses = false;
+  /// On meshes of at least 100,000 faces (quadric cost, full queue): the first 90% of the
+  /// collapses run on four spatial parts at once (decimate_qem says how); false: one serial run.
+  bool parallel = true;
 };
 
 /// Result of decimate_qem.
@@ -82,12 +85,17 @@ struct QemResult {
 };
 
 /// Greedy incremental decimation (§4.2): collapses the cheapest admissible edge until a stop rule
-/// holds, keeping per-vertex error quadrics (summed on collapse) and an addressable 4-ary heap
-/// with one entry per edge, whose keys are updated in place: each collapse re-costs the edges
-/// around the kept vertex and drops those that die (the top is still re-costed before it is
-/// collapsed). Equal costs go to the shorter edge first, then the smaller half-edge index, so the
-/// result is deterministic. A collapse rejected by the checks is retried when an edge at one of
-/// its ends collapses. O(#F log #F) time, about 200 bytes per face of memory. Faces with a repeated vertex index are dropped first; zero-area faces,
+/// holds, keeping per-vertex error quadrics (summed on collapse; face planes weighted by area,
+/// plus constraint planes along boundary and sharp edges) and a monotone queue of collapses (a
+/// radix heap, one live entry per edge): each collapse re-costs the edges around the kept vertex
+/// and drops those that die (the top is still re-costed before it is collapsed). Equal costs go
+/// to the shorter edge first, then the smaller half-edge index. A collapse rejected by the checks
+/// is retried when an edge at one of its ends collapses. On meshes of 100,000 faces or more
+/// (QemOptions::parallel) the first 90% of the collapses run on four spatial parts at once, in
+/// rounds under a common cost ceiling, with the part borders shifted at each halving; a serial run
+/// does the rest. The result is deterministic and does not depend on the thread count.
+/// O(#F log #F) time, about 250 bytes per face of memory. Faces with a repeated vertex index are
+/// dropped first; zero-area faces,
 /// duplicate vertices, several components and holes are fine. Non-manifold or inconsistently
 /// oriented input is split into manifold, oriented fans first (never torn further), and the
 /// output refers back to the input through vertex_origin.
