@@ -223,6 +223,26 @@ def test_parallel_phase_keeps_the_invariants_and_the_quality(large_sphere, ratio
     assert distances[True] <= 1.15 * distances[False], distances
 
 
+@pytest.mark.parametrize("operator", ["edge", "halfedge"])
+def test_parallel_phase_keeps_the_boundary_and_the_error_bound(operator):
+    # A 198,000-face disk with a bumpy height field, stopped by max_error alone.
+    V, F = datasets.disk(n_rings=180, n_segments=1100)
+    V = V.copy()
+    V[:, 2] = 0.1 * np.sin(4 * V[:, 0]) * np.cos(3 * V[:, 1])
+    loop = topology.boundary_loops(F)[0]
+    for parallel in (True, False):
+        V2, F2, report = decimation.decimate(V, F, max_error=1e-4, operator=operator, parallel=parallel,
+                                             return_report=True)
+        assert 0 < report.max_error <= 1e-4 and len(F2) < len(F) // 5
+        assert topology.is_manifold(F2) and topology.euler_characteristic(F2) == 1
+        loops2 = topology.boundary_loops(F2)
+        assert len(loops2) == 1
+        if operator == "halfedge":
+            assert np.isin(report.vertex_origin[loops2[0]], loop).all()
+        else:  # boundary vertices stay on the boundary circle (radius 1)
+            assert np.abs(np.linalg.norm(V2[loops2[0], :2], axis=1) - 1).max() < 1e-3
+
+
 def test_parallel_result_does_not_depend_on_the_thread_count(large_sphere):
     import subprocess
     import sys

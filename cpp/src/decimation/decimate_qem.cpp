@@ -833,12 +833,14 @@ constexpr int kParallelParts = 4;
 constexpr double kCeilingGrowth = 1.5;
 
 /// The face count at which the parallel phase hands over to the serial finish (0: no parallel
-/// phase): the serial run does the last 10% of the collapses and the part borders, in global
-/// order. The multiple-choice variant and non-quadric costs (not monotone) run serially.
+/// phase): the serial run does the last 5% of the collapses and the part borders, in global
+/// order. (Hausdorff of parallel ÷ serial on five upsampled shared meshes at 10% and 1%: geometric
+/// mean 0.98 with a 5% or 10% finish, 1.01 with 2.5%.) The multiple-choice variant and
+/// non-quadric costs (not monotone) run serially.
 Eigen::Index parallel_phase_stop(Eigen::Index faces, Eigen::Index target, const QemOptions& options) {
   if (!options.parallel || faces < kParallelMinFaces || options.candidates != 0 || options.cost != CollapseCost::quadric) return 0;
   if (target <= 0) return 1;  // max_error alone: the ceiling stops the phase
-  return target + (faces - target) / 10;
+  return target + (faces - target) / 20;
 }
 
 /// The part of working vertex v among `parts` equal ranges of [0, vertices) rotated by `shift`.
@@ -884,8 +886,10 @@ void fill_queues(const HalfedgeMesh& mesh, std::vector<std::unique_ptr<GreedyCol
       cost[h] = static_cast<float>(run.evaluate(edge).cost);
   });
   std::fill(queued_cost.begin(), queued_cost.end(), kNone);
-  for (Eigen::Index h = 0; h < halfedges; ++h)
-    if (cost[h] != kNone) runs[part(mesh.from(static_cast<int>(h)))]->queue(static_cast<int>(h), cost[h]);
+  tbb::parallel_for(0, static_cast<int>(runs.size()), [&](int p) {  // each run fills its own queue
+    for (Eigen::Index h = 0; h < halfedges; ++h)
+      if (cost[h] != kNone && part(mesh.from(static_cast<int>(h))) == p) runs[p]->queue(static_cast<int>(h), cost[h]);
+  });
 }
 
 /// splitmix64: the multiple-choice variant's random stream.
