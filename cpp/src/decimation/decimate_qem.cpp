@@ -620,6 +620,12 @@ class CollapseQueue {
     const std::uint64_t key = (std::uint64_t(ordered_bits(cost)) << 32) | ordered_bits(length);
     push({key, edge, cost});
   }
+  /// Empties the queue, keeping its memory (the shared per-edge costs are the caller's).
+  void clear() {
+    for (auto& bucket : buckets_) bucket.clear();
+    last_ = 0;
+    live_ = 0;
+  }
   /// Drops the edge's entry, if it has one.
   void remove(int edge) {
     float& current = cost_[edge];
@@ -740,6 +746,12 @@ class GreedyCollapser {
     ring_.reserve(64);
   }
 
+  /// Starts over with an empty queue and new locks (the memory of the queue and of the checks'
+  /// marks is kept for the next stage).
+  void restart(const std::uint8_t* locked) {
+    heap_.clear();
+    locked_ = locked;
+  }
   bool may_queue(int edge) const {
     return locked_ == nullptr || (!locked_[mesh_.from(edge)] && !locked_[mesh_.to(edge)]);
   }
@@ -870,7 +882,7 @@ std::vector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const P
 /// runs' locks; null: none ran yet) held one of its ends — one rejected by the checks stays out
 /// until its ring changes, as in a single run.
 template <typename PartOf>
-void fill_queues(const HalfedgeMesh& mesh, std::vector<std::unique_ptr<GreedyCollapser>>& runs, const PartOf& part,
+void fill_queues(const HalfedgeMesh& mesh, const std::vector<GreedyCollapser*>& runs, const PartOf& part,
                  std::vector<float>& queued_cost, const std::vector<std::uint8_t>* was_locked,
                  const Progress& progress) {
   const Eigen::Index halfedges = static_cast<Eigen::Index>(mesh.corner_vertex.size());
@@ -946,6 +958,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       run.records.clear();
     };
     const Eigen::Index parallel_stop = parallel_phase_stop(face_slots, target, options);
+    std::vector<std::unique_ptr<GreedyCollapser>> collapsers;  // kept across the stages and the finish
     std::vector<std::uint8_t> was_locked;  // the locks of the last stage of the parallel phase
     if (parallel_stop > 0) {
       // Parallel phase (large meshes): the mesh is cut into spatial parts (ranges of the Morton
@@ -962,13 +975,18 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       const int vertices = static_cast<int>(mesh.position.size());
       double ceiling = -kInfinity;
       bool exhausted = false;  // no collapse left under max_error
+      std::vector<GreedyCollapser*> runs;
+      for (int p = 0; p < parts; ++p) {
+        collapsers.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, nullptr));
+        runs.push_back(collapsers.back().get());
+      }
       for (int stage = 0; faces > parallel_stop && !exhausted; ++stage) {
         const int shift = (stage % 2) * (vertices / (2 * parts));
-        const auto part = [&](int v) { return part_of(v, vertices, parts, shift); };
+        std::vector<std::uint8_t> part_index(vertices);  // looked up millions of times: no divisions
+        tbb::parallel_for(0, vertices, [&](int v) { part_index[v] = static_cast<std::uint8_t>(part_of(v, vertices, parts, shift)); });
+        const auto part = [&](int v) { return static_cast<int>(part_index[v]); };
         std::vector<std::uint8_t> locked = part_border_vertices(mesh, part);
-        std::vector<std::unique_ptr<GreedyCollapser>> runs;
-        for (int p = 0; p < parts; ++p)
-          runs.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, locked.data()));
+        for (GreedyCollapser* run : runs) run->restart(locked.data());
         fill_queues(mesh, runs, part, queued_cost, stage == 0 ? nullptr : &was_locked,
                     stage == 0 ? progress.subrange(0.1, 0.2) : Progress());
         const Eigen::Index stage_start = faces, stage_stop = std::max(parallel_stop, faces / 2);
@@ -988,17 +1006,17 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
           if (faces == before && ceiling >= max_error) { exhausted = true; break; }
         }
         if (faces == stage_start) exhausted = true;
-        runs.clear();
         was_locked = std::move(locked);
       }
     }
     // Serial greedy run over every edge (the whole decimation on smaller meshes).
     {
-      std::vector<std::unique_ptr<GreedyCollapser>> single;
-      single.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, nullptr));
-      fill_queues(mesh, single, [](int) { return 0; }, queued_cost, was_locked.empty() ? nullptr : &was_locked,
+      if (collapsers.empty())
+        collapsers.push_back(std::make_unique<GreedyCollapser>(mesh, quadric, options, queued_cost, nullptr));
+      GreedyCollapser& serial = *collapsers.front();
+      serial.restart(nullptr);
+      fill_queues(mesh, {&serial}, [](int) { return 0; }, queued_cost, was_locked.empty() ? nullptr : &was_locked,
                   progress.subrange(0.1, 0.2));
-      GreedyCollapser& serial = *single.front();
       const std::function<bool()> step = [&] {
         report(faces - serial.faces_removed);
         return true;
