@@ -144,23 +144,23 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
   for (int h = 0; h < halfedges; ++h)
     ++bucket_start[std::min(mesh.corner_vertex[h], mesh.corner_vertex[next_halfedge(h)]) + 1];
   for (int v = 0; v < n; ++v) bucket_start[v + 1] += bucket_start[v];
-  std::vector<int> bucket(halfedges);
+  std::vector<int> bucket(halfedges), bucket_far(halfedges);  // half-edge, and its larger end
   {
     std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
-    for (int h = 0; h < halfedges; ++h)
-      bucket[fill[std::min(mesh.corner_vertex[h], mesh.corner_vertex[next_halfedge(h)])]++] = h;
+    for (int h = 0; h < halfedges; ++h) {
+      const int u = mesh.corner_vertex[h], w = mesh.corner_vertex[next_halfedge(h)];
+      const int slot = fill[std::min(u, w)]++;
+      bucket[slot] = h;
+      bucket_far[slot] = std::max(u, w);
+    }
   }
-  auto other_end = [&](int h, int v) {
-    const int u = mesh.corner_vertex[h], w = mesh.corner_vertex[next_halfedge(h)];
-    return u == v ? w : u;
-  };
   tbb::parallel_for(0, n, [&](int v) {  // each bucket writes only its own half-edges' twins
     const int begin = bucket_start[v], end = bucket_start[v + 1];
     for (int i = begin; i < end; ++i) {
-      const int g = bucket[i], far = other_end(g, v);
+      const int g = bucket[i], far = bucket_far[i];
       int partners = 0, partner = -1;
       for (int j = begin; j < end; ++j)
-        if (j != i && other_end(bucket[j], v) == far) { ++partners; partner = bucket[j]; }
+        if (j != i && bucket_far[j] == far) { ++partners; partner = bucket[j]; }
       if (partners == 1 && mesh.corner_vertex[g] != mesh.corner_vertex[partner]) mesh.opposite[g] = partner;
     }
   });
@@ -228,24 +228,25 @@ HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
 constexpr double kBoundaryConstraintWeight = 10.0;
 constexpr double kSharpEdgeConstraintWeight = 1.0;
 /// An edge is sharp when its faces' normals differ by more than 60°.
-inline bool is_sharp(const Vec3& area_normal_a, const Vec3& area_normal_b) {
-  return area_normal_a.dot(area_normal_b) < 0.5 * area_normal_a.norm() * area_normal_b.norm();
-}
+constexpr double kSharpCosine = 0.5;
 
 std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_planes, const Progress& progress) {
   const int faces = static_cast<int>(mesh.face_alive.size());
-  std::vector<Vec3> area_normal(faces);  // (twice the area) × unit normal
+  std::vector<Vec3> normal(faces);          // unit normal (zero for a zero-area face)
+  std::vector<double> double_area(faces);  // twice the area
   parallel_for_with_progress(faces, progress.subrange(0.0, 0.3), "face planes", [&](Eigen::Index f) {
     const Vec3& p = mesh.position[mesh.corner_vertex[3 * f]];
     const Vec3& q = mesh.position[mesh.corner_vertex[3 * f + 1]];
     const Vec3& r = mesh.position[mesh.corner_vertex[3 * f + 2]];
-    area_normal[f] = (q - p).cross(r - p);
+    const Vec3 area_normal = (q - p).cross(r - p);
+    double_area[f] = area_normal.norm();
+    normal[f] = double_area[f] > 0 ? Vec3(area_normal / double_area[f]) : Vec3::Zero();
   });
   double total = 0;
-  for (const Vec3& a : area_normal) total += a.norm();
+  for (const double a : double_area) total += a;
   const double mean_double_area = (faces > 0 && total > 0) ? total / faces : 1.0;
 
-  // The plane through the edge p→q perpendicular to the face with area normal n.
+  // The plane through the edge p→q perpendicular to the face with normal n.
   auto edge_constraint = [&](const Vec3& p, const Vec3& q, const Vec3& n, double weight, Quadric& sum) {
     const Vec3 along = q - p;
     const Vec3 side = along.cross(n);
@@ -261,17 +262,16 @@ std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_pl
     Quadric sum;
     mesh.for_each_outgoing(v, [&](int h) {
       const int f = h / 3;
-      const Vec3& n = area_normal[f];
-      const double double_area = n.norm();
-      if (double_area > 0) sum += Quadric::from_plane(n / double_area, mesh.position[v], double_area / mean_double_area);
+      const Vec3& n = normal[f];
+      if (double_area[f] > 0) sum += Quadric::from_plane(n, mesh.position[v], double_area[f] / mean_double_area);
       const int o = mesh.opposite[h];
       const Vec3& p = mesh.position[v];
       const Vec3& q = mesh.position[mesh.to(h)];
       if (o < 0) {
         if (boundary_planes) edge_constraint(p, q, n, kBoundaryConstraintWeight, sum);
-      } else if (is_sharp(n, area_normal[o / 3])) {
+      } else if (double_area[f] > 0 && double_area[o / 3] > 0 && n.dot(normal[o / 3]) < kSharpCosine) {
         edge_constraint(p, q, n, kSharpEdgeConstraintWeight, sum);
-        edge_constraint(p, q, area_normal[o / 3], kSharpEdgeConstraintWeight, sum);
+        edge_constraint(p, q, normal[o / 3], kSharpEdgeConstraintWeight, sum);
       }
       const int incoming = prev_halfedge(h);
       if (boundary_planes && mesh.opposite[incoming] < 0)
