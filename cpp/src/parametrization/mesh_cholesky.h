@@ -1,32 +1,88 @@
 #pragma once
 // Internal to the parametrization chapter (not installed): the one CHOLMOD set-up of its SPD
-// solves — harmonic, stretch and LSCM systems (constrained_solve), the reduced ABF++ system and
-// the angle-based layout.
+// solves — harmonic, stretch and LSCM systems (constrained_solve), the reduced ABF++ system,
+// the angle-based layout and spectral LSCM's shift-and-invert.
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
 namespace meshsmith::parametrization::detail {
 
+/// While alive, the calling thread's OpenMP parallel regions run on one thread. Debian's
+/// CHOLMOD 5.12 opens an OpenMP team of a hard-wired 4 threads (its CHOLMOD_OMP_NUM_THREADS,
+/// deaf to OMP_NUM_THREADS) for every supernode above ~1000 entries, to clear and scatter a few
+/// kB: on 2 cores these wake-ups cost more than the arithmetic. Measured on the 100k-face disk
+/// (harmonic's free block, supernodal): factorization 95–110 ms with the teams, 55–61 ms
+/// without; OpenBLAS's own threads (1 or 2) make no difference. Implemented by turning on the
+/// thread's dynamic adjustment with a limit of one thread (omp_set_dynamic/omp_set_num_threads
+/// of the OpenMP runtime CHOLMOD loaded, found with dlopen(RTLD_NOLOAD); nothing happens when
+/// CHOLMOD was built without OpenMP), restored on destruction.
+class SingleThreadedOpenMp {
+ public:
+  SingleThreadedOpenMp();
+  ~SingleThreadedOpenMp();
+  SingleThreadedOpenMp(const SingleThreadedOpenMp&) = delete;
+  SingleThreadedOpenMp& operator=(const SingleThreadedOpenMp&) = delete;
+
+ private:
+  bool active_ = false;
+  int saved_dynamic_ = 0;
+  int saved_threads_ = 1;
+};
+
+/// CHOLMOD's LLᵀ (lower triangle read) with its analysis and factorization run under
+/// SingleThreadedOpenMp. Call configure_cholesky before analyzing.
 template <typename Scalar = double>
-using MeshCholesky = Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scalar>, Eigen::Lower>;
+class MeshCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scalar>, Eigen::Lower> {
+  using Base = Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scalar>, Eigen::Lower>;
+
+ public:
+  MeshCholesky& compute(const Eigen::SparseMatrix<Scalar>& matrix) {
+    SingleThreadedOpenMp one_thread;
+    Base::compute(matrix);
+    return *this;
+  }
+  void analyzePattern(const Eigen::SparseMatrix<Scalar>& matrix) {
+    SingleThreadedOpenMp one_thread;
+    Base::analyzePattern(matrix);
+  }
+  void factorize(const Eigen::SparseMatrix<Scalar>& matrix) {
+    SingleThreadedOpenMp one_thread;
+    Base::factorize(matrix);
+  }
+};
 
 /// Which factorization suits which system. Measured here (2 cores; Debian's OpenBLAS, which
-/// scripts/bootstrap.sh installs) on the 100k-face disk:
-/// - Laplacian-like systems (one unknown per vertex: harmonic, LSCM, the layout): supernodal
-///   with AMD 0.14 s, simplicial AMD 0.20 s, simplicial METIS 0.31 s.
+/// scripts/bootstrap.sh installs; CHOLMOD's OpenMP limited as above) on the 100k-face disk:
+/// - Laplacian-like systems (one unknown per vertex: harmonic, LSCM, the layout), supernodal:
+///   geometric nested dissection (nested_dissection.h: 16 ms on one thread, its halves run on
+///   both cores) + analysis 11 ms + factorization
+///   55 ms (2.44·10⁸ flops, nnz(L) 1.96M); AMD: analysis 23 ms (AMD 12 ms) + factorization
+///   61 ms (3.57·10⁸ flops, nnz(L) 2.17M). Simplicial factorizations take 140–190 ms; METIS
+///   orders best (2.1·10⁸ flops) but itself takes 190 ms.
 /// - the reduced ABF++ system (one unknown per interior-vertex condition, wider stencil):
 ///   simplicial METIS 1.0 s, simplicial AMD 2.4 s, supernodal AMD 3.0 s (reference BLAS).
-enum class CholeskyKind { vertex_laplacian, abf_reduced };
+enum class CholeskyKind {
+  vertex_laplacian,          ///< supernodal, AMD ordering
+  vertex_laplacian_ordered,  ///< supernodal, the matrix is already in a fill-reducing order
+  abf_reduced,               ///< simplicial, METIS ordering
+};
 
 template <typename Scalar>
 void configure_cholesky(MeshCholesky<Scalar>& solver, CholeskyKind kind) {
   solver.cholmod().nmethods = 1;
-  if (kind == CholeskyKind::vertex_laplacian) {
-    solver.setMode(Eigen::CholmodSupernodalLLt);
-    solver.cholmod().method[0].ordering = CHOLMOD_AMD;
-  } else {
-    solver.setMode(Eigen::CholmodSimplicialLLt);
-    solver.cholmod().method[0].ordering = CHOLMOD_METIS;
+  switch (kind) {
+    case CholeskyKind::vertex_laplacian:
+      solver.setMode(Eigen::CholmodSupernodalLLt);
+      solver.cholmod().method[0].ordering = CHOLMOD_AMD;
+      break;
+    case CholeskyKind::vertex_laplacian_ordered:
+      solver.setMode(Eigen::CholmodSupernodalLLt);
+      solver.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+      break;
+    case CholeskyKind::abf_reduced:
+      solver.setMode(Eigen::CholmodSimplicialLLt);
+      solver.cholmod().method[0].ordering = CHOLMOD_METIS;
+      break;
   }
 }
 

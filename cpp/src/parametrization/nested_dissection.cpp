@@ -1,0 +1,132 @@
+#include "nested_dissection.h"
+
+#include <oneapi/tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace meshsmith::parametrization::detail {
+
+namespace {
+
+class Dissection {
+ public:
+  Dissection(const VertexRef& points, const AdjacencyView& graph, int leaf_size)
+      : graph_(graph), leaf_size_(std::max(leaf_size, 1)) {
+    const auto n = static_cast<std::size_t>(points.rows());
+    items_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      Item& item = items_[i];
+      item.variable = static_cast<int>(i);
+      for (int d = 0; d < 3; ++d) {
+        // Non-finite coordinates read as 0: they make the order worse, never invalid.
+        const double x = points(static_cast<Eigen::Index>(i), d);
+        item.position[d] = std::isfinite(x) ? x : 0.0;
+      }
+    }
+    scratch_.resize(n);
+    side_.assign(n, unassigned);
+  }
+
+  std::vector<int> run() && {
+    split(0, static_cast<int>(items_.size()));
+    std::vector<int> order(items_.size());
+    for (std::size_t k = 0; k < items_.size(); ++k) order[k] = items_[k].variable;
+    return order;
+  }
+
+ private:
+  /// A variable and its position, kept together so that the passes over a range read memory in
+  /// order.
+  struct Item {
+    double position[3];
+    int variable;
+  };
+  /// side_ values; a variable with a neighbour on the other side also gets the `cut` bit.
+  enum : unsigned char { unassigned = 0, low = 1, high = 2, separator = 3, cut = 4 };
+
+  static constexpr int parallel_size = 4096;
+
+  /// Orders the variables of items_[begin, end) in place: low side, high side, separator.
+  void split(int begin, int end) {
+    if (end - begin <= leaf_size_) return;
+    const int middle = begin + (end - begin) / 2;
+    split_at_median(begin, middle, end);
+    for (int k = begin; k < middle; ++k) side_[items_[k].variable] = low;
+    for (int k = middle; k < end; ++k) side_[items_[k].variable] = high;
+    // The separator: the variables of one side with a neighbour on the other, from the side
+    // where they are fewer.
+    int cut_count[3] = {0, 0, 0};
+    for (int k = begin; k < end; ++k) {
+      const int v = items_[k].variable;
+      const unsigned char own = side_[v];
+      for (int e = graph_.starts[v]; e < graph_.starts[v + 1]; ++e) {
+        if ((side_[graph_.neighbours[e]] & separator) == (separator ^ own)) {
+          side_[v] = own | cut;
+          ++cut_count[own];
+          break;
+        }
+      }
+    }
+    const unsigned char cut_side = cut_count[low] <= cut_count[high] ? low : high;
+    int count[4] = {0, 0, 0, 0};
+    for (int k = begin; k < end; ++k) {
+      unsigned char& s = side_[items_[k].variable];
+      s = s == (cut_side | cut) ? separator : (s & separator);
+      ++count[s];
+    }
+    // Stable partition into low, high, separator.
+    int at[4] = {0, begin, begin + count[low], begin + count[low] + count[high]};
+    for (int k = begin; k < end; ++k) scratch_[at[side_[items_[k].variable]]++] = items_[k];
+    for (int k = begin; k < end; ++k) {
+      items_[k] = scratch_[k];
+      side_[items_[k].variable] = unassigned;
+    }
+    // The two sides share no edge (a low–high edge would have put one end into the separator),
+    // so they are ordered concurrently: each touches only its own slots and variables.
+    const int low_end = begin + count[low], high_end = low_end + count[high];
+    if (end - begin >= parallel_size) {
+      tbb::parallel_invoke([&] { split(begin, low_end); }, [&] { split(low_end, high_end); });
+    } else {
+      split(begin, low_end);
+      split(low_end, high_end);
+    }
+  }
+
+  /// Puts the lower half (by position along the widest axis of the bounding box, ties by
+  /// variable) of items_[begin, end) into [begin, middle).
+  void split_at_median(int begin, int middle, int end) {
+    double lower[3], upper[3];
+    for (int d = 0; d < 3; ++d) lower[d] = upper[d] = items_[begin].position[d];
+    for (int k = begin + 1; k < end; ++k) {
+      for (int d = 0; d < 3; ++d) {
+        lower[d] = std::min(lower[d], items_[k].position[d]);
+        upper[d] = std::max(upper[d], items_[k].position[d]);
+      }
+    }
+    int axis = 0;
+    for (int d = 1; d < 3; ++d) {
+      if (upper[d] - lower[d] > upper[axis] - lower[axis]) axis = d;
+    }
+    std::nth_element(items_.begin() + begin, items_.begin() + middle, items_.begin() + end,
+                     [axis](const Item& a, const Item& b) {
+                       return a.position[axis] < b.position[axis] ||
+                              (a.position[axis] == b.position[axis] && a.variable < b.variable);
+                     });
+  }
+
+  AdjacencyView graph_;
+  int leaf_size_;
+  std::vector<Item> items_;
+  std::vector<Item> scratch_;
+  std::vector<unsigned char> side_;
+};
+
+}  // namespace
+
+std::vector<int> nested_dissection_order(const VertexRef& points, const AdjacencyView& graph, int leaf_size) {
+  return Dissection(points, graph, leaf_size).run();
+}
+
+}  // namespace meshsmith::parametrization::detail
