@@ -86,3 +86,27 @@ def test_lscm_on_a_large_bumpy_disk_matches_libigl():
     pins, pins_uv = P.default_lscm_pins(V, F)
     expected, _ = igl.lscm(V, F.astype(np.int64), pins, np.ascontiguousarray(pins_uv))
     np.testing.assert_allclose(P.lscm(V, F, pins, pins_uv), expected, atol=1e-8)
+
+
+def _grid(nx, ny):
+    """A triangulated [0, nx-1] x [0, ny-1] grid in the plane z = 0, with a gentle bump."""
+    x, y = np.meshgrid(np.arange(nx, dtype=float), np.arange(ny, dtype=float), indexing="ij")
+    V = np.column_stack([x.ravel(), y.ravel(), 0.1 * np.sin(x.ravel()) * np.cos(y.ravel())])
+    index = np.arange(nx * ny).reshape(nx, ny)
+    a, b, c, d = index[:-1, :-1].ravel(), index[1:, :-1].ravel(), index[1:, 1:].ravel(), index[:-1, 1:].ravel()
+    F = np.vstack([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return V, F
+
+
+@pytest.mark.parametrize("weights", ["uniform", "cotan"])
+def test_harmonic_with_free_parts_split_by_a_fixed_column(weights):
+    # The fixed middle column leaves two free parts with no edge between them, side by side
+    # along the longest axis: the first dissection split finds an empty separator.
+    nx, ny = 61, 12
+    V, F = _grid(nx, ny)
+    index = np.arange(nx * ny).reshape(nx, ny)
+    fixed = np.unique(np.concatenate([index[0], index[-1], index[:, 0], index[:, -1], index[nx // 2]]))
+    fixed_uv = np.column_stack([np.cos(V[fixed, 0]), V[fixed, 1] + 0.5 * np.sin(V[fixed, 0])])
+    UV = P.harmonic(V, F, boundary=fixed, boundary_uv=fixed_uv, weights=weights)
+    L = geometry.cotan_laplacian(V, F) if weights == "cotan" else geometry.uniform_laplacian(F, len(V))
+    np.testing.assert_allclose(UV, _reference_harmonic(L, fixed, fixed_uv), atol=1e-10)

@@ -1,6 +1,7 @@
 #include "constrained_solve.h"
 #include "mesh_cholesky.h"
 #include "nested_dissection.h"
+#include "split_cholesky.h"
 
 #include <meshsmith/core/errors.h>
 
@@ -39,7 +40,7 @@ struct FreeVariables {
 /// free variables' positions. Entry c is the free variable (its position among the free ones)
 /// that becomes column c.
 template <typename Scalar>
-std::vector<int> dissection_order(const Eigen::SparseMatrix<Scalar>& Q, const FreeVariables& free,
+DissectionOrder dissection_order(const Eigen::SparseMatrix<Scalar>& Q, const FreeVariables& free,
                                   const VertexRef& positions) {
   const Eigen::Index n_free = free.count();
   std::vector<int> starts(n_free + 1, 0), neighbours;
@@ -80,13 +81,14 @@ Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> solve_with_fixed(
   // stored entry (p, f) for a symmetric / Hermitian Q and the stored entry itself for a given Qᵀ.
   const bool positive_definite = kind == SystemKind::positive_definite;
   const bool dissected = positive_definite && positions != nullptr;
-  std::vector<int> order;
+  DissectionOrder dissection;
   if (dissected) {
-    order = dissection_order(Q, free, *positions);
+    dissection = dissection_order(Q, free, *positions);
   } else {
-    order.resize(n_free);
-    std::iota(order.begin(), order.end(), 0);
+    dissection.order.resize(n_free);
+    std::iota(dissection.order.begin(), dissection.order.end(), 0);
   }
+  const std::vector<int>& order = dissection.order;
   std::vector<int> column_of(n_free);
   for (Eigen::Index c = 0; c < n_free; ++c) column_of[order[c]] = static_cast<int>(c);
   const auto kept = [&](int row, Eigen::Index c) { return !positive_definite || row >= c; };
@@ -127,7 +129,9 @@ Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> solve_with_fixed(
     }
   });
   Dense solution;
-  if (positive_definite) {
+  if (dissection.first_part > 0 && dissection.second_part > 0) {
+    solution = SplitCholesky<Scalar>(block, dissection.first_part, dissection.second_part, function).solve(rhs);
+  } else if (positive_definite) {
     MeshCholesky<Scalar> solver;
     configure_cholesky(solver, dissected ? CholeskyKind::vertex_laplacian_ordered : CholeskyKind::vertex_laplacian);
     solver.compute(block);

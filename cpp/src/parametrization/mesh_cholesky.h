@@ -29,36 +29,57 @@ class SingleThreadedOpenMp {
   int saved_threads_ = 1;
 };
 
+/// While any instance is alive, the BLAS that CHOLMOD calls (OpenBLAS, when the process has
+/// loaded it) runs on the calling thread only. OpenBLAS serves its threaded calls from one
+/// thread pool, so two factorizations running side by side (SplitCholesky) queue behind each
+/// other: measured on the two halves of the 100k-face disk, 30 ms and 60 ms side by side with
+/// OpenBLAS's pool, 29 ms and 29 ms without it. Instances nest and may live on several threads:
+/// the first sets one thread, the last restores the previous count.
+class SingleThreadedBlas {
+ public:
+  SingleThreadedBlas();
+  ~SingleThreadedBlas();
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+};
+
 /// CHOLMOD's LLᵀ (lower triangle read) with its analysis and factorization run under
-/// SingleThreadedOpenMp. Call configure_cholesky before analyzing.
+/// SingleThreadedOpenMp and SingleThreadedBlas (OpenBLAS's pool brings a lone factorization
+/// nothing measurable, and its idle threads spin on the other core for a while afterwards). Call configure_cholesky before analyzing.
 template <typename Scalar = double>
 class MeshCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scalar>, Eigen::Lower> {
   using Base = Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scalar>, Eigen::Lower>;
 
  public:
   MeshCholesky& compute(const Eigen::SparseMatrix<Scalar>& matrix) {
-    SingleThreadedOpenMp one_thread;
+    const SingleThreadedBlas one_blas_thread;
+    const SingleThreadedOpenMp one_thread;
     Base::compute(matrix);
     return *this;
   }
   void analyzePattern(const Eigen::SparseMatrix<Scalar>& matrix) {
-    SingleThreadedOpenMp one_thread;
+    const SingleThreadedOpenMp one_thread;
     Base::analyzePattern(matrix);
   }
   void factorize(const Eigen::SparseMatrix<Scalar>& matrix) {
-    SingleThreadedOpenMp one_thread;
+    const SingleThreadedBlas one_blas_thread;
+    const SingleThreadedOpenMp one_thread;
     Base::factorize(matrix);
   }
 };
 
-/// Which factorization suits which system. Measured here (2 cores; Debian's OpenBLAS, which
-/// scripts/bootstrap.sh installs; CHOLMOD's OpenMP limited as above) on the 100k-face disk:
-/// - Laplacian-like systems (one unknown per vertex: harmonic, LSCM, the layout), supernodal:
-///   geometric nested dissection (nested_dissection.h: 16 ms on one thread, its halves run on
-///   both cores) + analysis 11 ms + factorization
-///   55 ms (2.44·10⁸ flops, nnz(L) 1.96M); AMD: analysis 23 ms (AMD 12 ms) + factorization
-///   61 ms (3.57·10⁸ flops, nnz(L) 2.17M). Simplicial factorizations take 140–190 ms; METIS
-///   orders best (2.1·10⁸ flops) but itself takes 190 ms.
+/// Which factorization suits which system. Measured here (2 cores, AMD EPYC; Debian's OpenBLAS,
+/// which scripts/bootstrap.sh installs; threads limited as above) on harmonic's free block of the
+/// 100k-face disk (49.5k unknowns):
+/// - Laplacian-like systems (one unknown per vertex: harmonic, LSCM, the layout), supernodal.
+///   With the vertex positions known (constrained_solve): geometric nested dissection
+///   (nested_dissection.h; 15 ms on one thread, 9–10 ms on two; nnz(L) 1.97M, 2.45·10⁸ flops),
+///   then SplitCholesky: the two halves (1.25·10⁸ flops each) analysed and factorized side by
+///   side in 6 + 29 ms when the second core is free (55–60 ms when it is busy), the 251×251
+///   Schur complement 3 ms. The same order in one CHOLMOD factorization: analysis 11 ms +
+///   factorization 55–61 ms. AMD (no positions): analysis 23 ms (AMD itself 12 ms) +
+///   factorization 61 ms (nnz(L) 2.17M, 3.57·10⁸ flops). Simplicial factorizations take
+///   140–190 ms; METIS orders best (2.1·10⁸ flops) but itself takes 190 ms.
 /// - the reduced ABF++ system (one unknown per interior-vertex condition, wider stencil):
 ///   simplicial METIS 1.0 s, simplicial AMD 2.4 s, supernodal AMD 3.0 s (reference BLAS).
 enum class CholeskyKind {

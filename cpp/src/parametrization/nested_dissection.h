@@ -26,8 +26,17 @@ struct AdjacencyView {
 ///
 /// points: n×3 positions (row i: variable i; any values — coincident points still give a valid
 /// order, only a worse one). graph: the pattern's adjacency as above. leaf_size ≥ 1.
-/// Returns the elimination order: entry k is the variable eliminated k-th (a permutation of
-/// 0..n−1; empty for n = 0). Deterministic.
-std::vector<int> nested_dissection_order(const VertexRef& points, const AdjacencyView& graph, int leaf_size = 8);
+struct DissectionOrder {
+  /// The elimination order: entry k is the variable eliminated k-th (a permutation of 0..n−1).
+  std::vector<int> order;
+  /// The first split: order[0, first_part) and order[first_part, first_part + second_part) are
+  /// the two sides (no edge joins them), the rest of `order` is their separator. Both 0 when
+  /// n ≤ leaf_size (no split).
+  int first_part = 0;
+  int second_part = 0;
+};
+
+/// The order described above; deterministic.
+DissectionOrder nested_dissection_order(const VertexRef& points, const AdjacencyView& graph, int leaf_size = 8);
 
 }  // namespace meshsmith::parametrization::detail
