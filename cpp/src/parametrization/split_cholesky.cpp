@@ -78,7 +78,7 @@ struct SplitCholesky<Scalar>::Part {
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_NATURAL;
     common.postorder = 0;  // keep the separator last (the order is a post-order already)
-    common.supernodal = CHOLMOD_SUPERNODAL;
+    configure_vertex_supernodes(common);
     cholmod_sparse matrix{};
     matrix.nrow = matrix.ncol = static_cast<std::size_t>(size + separator);
     matrix.nzmax = rows.size();
