@@ -38,7 +38,6 @@ class Dissection {
       }
       item.reach = std::sqrt(longest);
     }
-    scratch_.resize(n);
     side_.assign(n, unassigned);
   }
 
@@ -89,25 +88,27 @@ class Dissection {
       }
     }
     const unsigned char cut_side = cut_count[low] <= cut_count[high] ? low : high;
-    int count[4] = {0, 0, 0, 0};
-    for (int k = begin; k < end; ++k) {
-      unsigned char& s = side_[items_[k].variable];
-      s = s == (cut_side | cut) ? separator : (s & separator);
-      ++count[s];
-    }
-    // Stable partition into low, high, separator.
-    int at[4] = {0, begin, begin + count[low], begin + count[low] + count[high]};
-    for (int k = begin; k < end; ++k) scratch_[at[side_[items_[k].variable]]++] = items_[k];
-    for (int k = begin; k < end; ++k) {
-      items_[k] = scratch_[k];
-      side_[items_[k].variable] = unassigned;
+    // Three-way partition in place into low, high, separator (each item read once; its mark
+    // is cleared as it is read).
+    int low_end = begin, next = begin, separator_begin = end;
+    while (next < separator_begin) {
+      unsigned char& mark = side_[items_[next].variable];
+      const unsigned char where = mark == (cut_side | cut) ? separator : (mark & separator);
+      mark = unassigned;
+      if (where == low) {
+        std::swap(items_[low_end++], items_[next++]);
+      } else if (where == high) {
+        ++next;
+      } else {
+        std::swap(items_[next], items_[--separator_begin]);
+      }
     }
     // The two sides share no edge (a low–high edge would have put one end into the separator),
     // so they are ordered concurrently: each touches only its own slots and variables.
-    const int low_end = begin + count[low], high_end = low_end + count[high];
+    const int high_end = separator_begin;
     if (first_split) {
-      first_split->first_part = count[low];
-      first_split->second_part = count[high];
+      first_split->first_part = low_end - begin;
+      first_split->second_part = high_end - low_end;
     }
     if (end - begin >= parallel_size) {
       tbb::parallel_invoke([&] { split(begin, low_end); }, [&] { split(low_end, high_end); });
@@ -166,7 +167,6 @@ class Dissection {
   AdjacencyView graph_;
   int leaf_size_;
   std::vector<Item> items_;
-  std::vector<Item> scratch_;
   std::vector<unsigned char> side_;
 };
 
