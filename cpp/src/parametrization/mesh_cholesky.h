@@ -73,7 +73,7 @@ class MeshCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scal
 /// 100k-face disk (49.5k unknowns):
 /// - Laplacian-like systems (one unknown per vertex: harmonic, LSCM, the layout), supernodal.
 ///   With the vertex positions known (constrained_solve): geometric nested dissection
-///   (nested_dissection.h; 15 ms on one thread, 9–10 ms on two; nnz(L) 1.97M, 2.45·10⁸ flops),
+///   (nested_dissection.h; 10–11 ms of CPU, 6–7 ms on two threads; nnz(L) 1.97M, 2.45·10⁸ flops),
 ///   then SplitCholesky: the two halves (1.25·10⁸ flops each) analysed and factorized side by
 ///   side in 6 + 29 ms when the second core is free (55–60 ms when it is busy), the 251×251
 ///   Schur complement 3 ms. The same order in one CHOLMOD factorization: analysis 11 ms +

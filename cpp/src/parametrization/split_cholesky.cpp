@@ -71,7 +71,8 @@ struct SplitCholesky<Scalar>::Part {
     for (Eigen::Index c = separator_begin; c < n; ++c) copy_column(c);
   }
 
-  /// Factorizes Mᵢ in the given order; false if it is not positive definite.
+  /// Factorizes Mᵢ in the given order; false if CHOLMOD failed (`common.status` says why:
+  /// CHOLMOD_NOT_POSDEF, CHOLMOD_OUT_OF_MEMORY, ...).
   bool factorize() {
     const SingleThreadedOpenMp one_thread;
     common.print = 0;
@@ -93,7 +94,8 @@ struct SplitCholesky<Scalar>::Part {
     matrix.packed = 1;
     factor = cholmod_analyze(&matrix, &common);
     if (!factor || !cholmod_factorize(&matrix, factor, &common)) return false;
-    if (common.status != CHOLMOD_OK || factor->minor < factor->n || !factor->is_super) return false;
+    if (common.status == CHOLMOD_OK && factor->minor < factor->n) common.status = CHOLMOD_NOT_POSDEF;
+    if (common.status != CHOLMOD_OK || !factor->is_super) return false;
     const int* permutation = static_cast<const int*>(factor->Perm);
     for (std::size_t k = 0; k < factor->n; ++k) {
       if (permutation && permutation[k] != static_cast<int>(k)) throw std::logic_error("SplitCholesky: CHOLMOD reordered");
@@ -154,7 +156,13 @@ SplitCholesky<Scalar>::SplitCholesky(const Sparse& lower, Eigen::Index first_par
     return SolverError(std::string(function) + ": CHOLMOD could not factorize the system (it is not positive "
                        "definite: are the weights or the constraints degenerate?)");
   };
-  if (!factorized[0] || !factorized[1]) throw not_positive_definite();
+  for (int i = 0; i < 2; ++i) {
+    if (factorized[i]) continue;
+    if (parts_[i]->common.status == CHOLMOD_OUT_OF_MEMORY) {
+      throw SolverError(std::string(function) + ": CHOLMOD ran out of memory factorizing the system");
+    }
+    throw not_positive_definite();
+  }
   // A's Schur complement on S: T₁ + T₂ − Aₛₛ (lower triangles).
   Dense schur = Dense::Zero(separator, separator);
   for (Eigen::Index c = separator_begin_; c < n; ++c) {
