@@ -29,7 +29,8 @@ enum class SystemKind {
 /// fixed: distinct indices in [0, N); fixed_values: #fixed×c.
 /// positions: optional N×3 positions of the variables (one variable per mesh vertex); given,
 /// a positive definite free block is ordered by geometric nested dissection
-/// (nested_dissection.h), otherwise by AMD.
+/// (nested_dissection.h) and its two halves are factorized side by side (split_cholesky.h),
+/// otherwise it is ordered by AMD and factorized in one piece (mesh_cholesky.h).
 /// \throw SolverError naming `function` if the factorization or the solve fails (a singular or
 /// indefinite free block).
 template <typename Scalar>
