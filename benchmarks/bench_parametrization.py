@@ -5,9 +5,15 @@ spectral LSCM, cut_to_disk and is_bijective for scale.
 Input: a procedural disk (meshsmith.datasets.disk, 126 rings, 792 outer segments: ~100k well-shaped
 faces) lifted
 into a bumpy height field z = 0.2 sin(3x) cos(2y), so the maps are not trivial.
+
+meshsmith's harmonic and LSCM solves use both cores (the two halves of the nested-dissection
+order are factorized side by side, cpp/src/parametrization/split_cholesky.h); libigl's run on one.
+Their ratio therefore depends on the second core being free: the load average is printed first,
+run the benchmark on an otherwise idle machine.
 """
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -31,7 +37,7 @@ def bumpy_disk(n_rings: int, n_segments: int):
 def main() -> None:
     V, F = bumpy_disk(126, 792)
     F64 = F.astype(np.int64)
-    print(f"disk: {len(V)} vertices, {len(F)} faces")
+    print(f"disk: {len(V)} vertices, {len(F)} faces; load average {os.getloadavg()[0]:.2f}")
 
     bnd = igl.boundary_loop(F64)
     bc = np.ascontiguousarray(igl.map_vertices_to_circle(np.asfortranarray(V), bnd.astype(np.int32)))

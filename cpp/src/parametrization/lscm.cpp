@@ -5,6 +5,7 @@
 
 #include "constrained_solve.h"
 #include "input_checks.h"
+#include "mesh_cholesky.h"
 
 #include <Eigen/CholmodSupport>
 #include <Spectra/MatOp/SparseSymMatProd.h>
@@ -124,7 +125,7 @@ geometry::ParameterMatrix solve_pinned(const VertexRef& V, const FaceRef& F,
   Eigen::MatrixXcd values(pinned.indices.size(), 1);
   for (std::size_t k = 0; k < pinned.indices.size(); ++k) values(k, 0) = {pinned.uv(k, 0), pinned.uv(k, 1)};
   const Eigen::MatrixXcd z = detail::solve_with_fixed<std::complex<double>>(
-      hermitian_energy_matrix(V, F, sides), pinned.indices, values, detail::SystemKind::positive_definite, "lscm");
+      hermitian_energy_matrix(V, F, sides), pinned.indices, values, detail::SystemKind::positive_definite, "lscm", &V);
   geometry::ParameterMatrix uv(n, 2);
   uv.col(0) = z.col(0).real();
   uv.col(1) = z.col(0).imag();
@@ -148,7 +149,9 @@ void check_pins(const PinnedVertices& pinned, Eigen::Index n) {
 class ShiftedConformalInverse {
  public:
   using Scalar = double;
-  ShiftedConformalInverse(const Sparse& Q, const Sparse& B) : Q_(Q), B_(B) {}
+  ShiftedConformalInverse(const Sparse& Q, const Sparse& B) : Q_(Q), B_(B) {
+    detail::configure_cholesky(solver_, detail::CholeskyKind::vertex_laplacian);
+  }
   Eigen::Index rows() const { return Q_.rows(); }
   Eigen::Index cols() const { return Q_.cols(); }
   void set_shift(double sigma) {
@@ -167,7 +170,7 @@ class ShiftedConformalInverse {
   const Sparse& Q_;
   const Sparse& B_;
   Sparse shifted_;
-  Eigen::CholmodDecomposition<Sparse, Eigen::Lower> solver_;
+  detail::MeshCholesky<double> solver_;
 };
 
 }  // namespace

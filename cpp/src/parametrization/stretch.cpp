@@ -2,6 +2,7 @@
 
 #include <meshsmith/core/errors.h>
 
+#include "constrained_solve.h"
 #include "input_checks.h"
 
 #include <cmath>
@@ -19,7 +20,7 @@ StretchResult stretch_minimizing(const VertexRef& V, const FaceRef& F, const Str
   const bool symmetric = options.weights != HarmonicWeights::mean_value;
   Eigen::SparseMatrix<double> L = weight_laplacian(V, F, options.weights);
   StretchResult result;
-  geometry::ParameterMatrix uv = harmonic_from_laplacian(L, boundary, symmetric);
+  geometry::ParameterMatrix uv = detail::solve_harmonic(L, boundary, symmetric, &V);
   for (int step = 0;; ++step) {
     progress.report(static_cast<double>(step) / (options.iterations + 1), "stretch minimization");
     const geometry::TriangleDistortion distortion = geometry::triangle_distortion(V, F, uv);
@@ -58,7 +59,7 @@ StretchResult stretch_minimizing(const VertexRef& V, const FaceRef& F, const Str
       }
       for (Eigen::Index j = 0; j < L.outerSize(); ++j) L.coeffRef(j, j) = -row_sums[j];
     }
-    uv = harmonic_from_laplacian(L, boundary, symmetric);
+    uv = detail::solve_harmonic(L, boundary, symmetric, &V);
   }
   progress.report(1.0, "stretch minimization");
   return result;
