@@ -888,19 +888,22 @@ void fill_queues(const HalfedgeMesh& mesh, const std::vector<GreedyCollapser*>& 
   const Eigen::Index halfedges = static_cast<Eigen::Index>(mesh.corner_vertex.size());
   constexpr float kNone = CollapseQueue::kNotQueued;
   std::vector<float> cost(static_cast<std::size_t>(halfedges), kNone);
+  std::vector<std::uint8_t> run_of(static_cast<std::size_t>(halfedges));  // the run of each costed edge
   parallel_for_with_progress(halfedges, progress, "edge costs", [&](Eigen::Index h) {
     const int edge = static_cast<int>(h);
     if (mesh.canonical(edge) != edge || !mesh.face_alive[edge / 3]) return;
-    const GreedyCollapser& run = *runs[part(mesh.from(edge))];
+    const int r = part(mesh.from(edge));
+    const GreedyCollapser& run = *runs[r];
     if (!run.may_queue(edge)) return;
+    run_of[h] = static_cast<std::uint8_t>(r);
     if (queued_cost[h] != kNone) cost[h] = queued_cost[h];
     else if (!was_locked || (*was_locked)[mesh.from(edge)] || (*was_locked)[mesh.to(edge)])
       cost[h] = static_cast<float>(run.evaluate(edge).cost);
   });
   std::fill(queued_cost.begin(), queued_cost.end(), kNone);
-  tbb::parallel_for(0, static_cast<int>(runs.size()), [&](int p) {  // each run fills its own queue
+  tbb::parallel_for(0, static_cast<int>(runs.size()), [&](int r) {  // each run fills its own queue
     for (Eigen::Index h = 0; h < halfedges; ++h)
-      if (cost[h] != kNone && part(mesh.from(static_cast<int>(h))) == p) runs[p]->queue(static_cast<int>(h), cost[h]);
+      if (cost[h] != kNone && run_of[h] == r) runs[r]->queue(static_cast<int>(h), cost[h]);
   });
 }
 
