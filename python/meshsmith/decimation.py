@@ -132,7 +132,8 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     (boundary vertices only slide along the boundary; default True). The link condition always
     holds: a manifold mesh stays manifold with the same Euler characteristic.
     parallel: on meshes of 100,000 faces or more (quadric cost, full queue), the first 95% of the
-    collapses run on four spatial parts at once, in rounds under a common cost ceiling, and a
+    collapses, down to no fewer than 20,000 faces, run on four spatial parts at once, in rounds
+    under a common cost ceiling, and a
     serial greedy run does the part borders and the rest (about 2× faster on 2 cores; the
     result does not depend on the thread count). False: one serial greedy run, the strict
     cheapest-first order.

@@ -62,7 +62,8 @@ struct QemOptions {
   /// Fill QemResult::collapses (the vertex splits of a progressive mesh, §4.3).
   bool record_collapses = false;
   /// On meshes of at least 100,000 faces (quadric cost, full queue): the first 95% of the
-  /// collapses run on four spatial parts at once (decimate_qem says how); false: one serial run.
+  /// collapses, down to no fewer than 20,000 faces, run on four spatial parts at once
+  /// (decimate_qem says how); false: one serial run.
   bool parallel = true;
 };
 
@@ -91,9 +92,9 @@ struct QemResult {
 /// and drops those that die (the top is still re-costed before it is collapsed). Equal costs go
 /// to the shorter edge first, then the smaller half-edge index. A collapse rejected by the checks
 /// is retried when an edge at one of its ends collapses. On meshes of 100,000 faces or more
-/// (QemOptions::parallel) the first 95% of the collapses run on four spatial parts at once, in
-/// rounds under a common cost ceiling, with the part borders shifted at each halving; a serial run
-/// does the rest. The result is deterministic and does not depend on the thread count.
+/// (QemOptions::parallel) the first 95% of the collapses, down to no fewer than 20,000 faces, run
+/// on four spatial parts at once, in rounds under a common cost ceiling, with the part borders
+/// shifted at each halving; a serial run does the rest. The result is deterministic and does not depend on the thread count.
 /// O(#F log #F) time, about 250 bytes per face of memory. Faces with a repeated vertex index are
 /// dropped first; zero-area faces,
 /// duplicate vertices, several components and holes are fine. Non-manifold or inconsistently
