@@ -761,9 +761,9 @@ class GreedyCollapser {
   double top_cost() { return heap_.settle() ? heap_.top_cost() : kInfinity; }
 
   /// Collapses the cheapest admissible edges while their cost is at most `ceiling` and fewer
-  /// than `face_budget` faces were removed; `step` (optional) runs after each collapse and ends
-  /// the run when it returns false.
-  void run(double ceiling, Eigen::Index face_budget, const std::function<bool()>* step) {
+  /// than `face_budget` faces were removed; `after_collapse` (optional) runs after each collapse
+  /// (progress reports, which may throw Cancelled).
+  void run(double ceiling, Eigen::Index face_budget, const std::function<void()>* after_collapse) {
     const Eigen::Index stop = faces_removed + face_budget;
     while (faces_removed < stop && heap_.settle()) {
       const int e = heap_.top_edge();
@@ -784,7 +784,7 @@ class GreedyCollapser {
       ++collapse_count;
       if (options_.record_collapses) records.push_back(record);
       requeue_around(record.kept);
-      if (step && !(*step)()) return;
+      if (after_collapse) (*after_collapse)();
     }
   }
 
@@ -1024,11 +1024,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       serial.restart(nullptr);
       fill_queues(mesh, {&serial}, [](int) { return 0; }, queued_cost, was_locked.empty() ? nullptr : &was_locked,
                   progress.subrange(0.1, 0.2));
-      const std::function<bool()> step = [&] {
-        report(faces - serial.faces_removed);
-        return true;
-      };
-      serial.run(max_error, target > 0 ? faces - target : std::numeric_limits<Eigen::Index>::max(), &step);
+      const std::function<void()> report_progress = [&] { report(faces - serial.faces_removed); };
+      serial.run(max_error, target > 0 ? faces - target : std::numeric_limits<Eigen::Index>::max(), &report_progress);
       absorb(serial);
     }
   } else {
