@@ -1,6 +1,7 @@
 // Incremental decimation by edge collapses (§4.2): a compact corner-based half-edge mesh on the
 // input renumbered for locality, error quadrics, a radix-heap queue of collapses, pluggable costs
 // and fairness criteria around one greedy loop, run by spatial parts at once on large meshes.
+#include <meshsmith/core/counting_sort.h>
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/parallel.h>
 #include <meshsmith/core/spatial_order.h>
@@ -90,9 +91,10 @@ struct HalfedgeMesh {
 /// The input renumbered for memory locality: vertices in Morton order (core/spatial_order.h),
 /// faces stably sorted by their smallest new vertex index, so the neighbourhood of a collapse
 /// sits close together in every per-vertex and per-half-edge array (1.3× faster on 1.3M faces).
+/// Faces with a repeated vertex index are dropped.
 struct LocalInput {
-  VertexMatrix V;
-  FaceMatrix F;
+  std::vector<Vec3> position;     ///< per new vertex
+  std::vector<int> corners;       ///< 3 per kept face: its new vertex indices
   std::vector<int> vertex_order;  ///< new vertex → input vertex
   int to_input(int working) const {  // working vertex → input numbering (split copies keep theirs)
     return working >= 0 && working < static_cast<int>(vertex_order.size()) ? vertex_order[working] : working;
@@ -101,115 +103,136 @@ struct LocalInput {
 
 LocalInput renumber_for_locality(const VertexRef& V, const FaceRef& F) {
   LocalInput local;
-  const int n = static_cast<int>(V.rows());
+  const int n = static_cast<int>(V.rows()), faces = static_cast<int>(F.rows());
   local.vertex_order = morton_order(V);
   std::vector<int> new_index(n);
-  local.V.resize(n, 3);
-  for (int k = 0; k < n; ++k) {
+  local.position.resize(n);
+  tbb::parallel_for(0, n, [&](int k) {
     new_index[local.vertex_order[k]] = k;
-    local.V.row(k) = V.row(local.vertex_order[k]);
-  }
-  std::vector<int> first(static_cast<std::size_t>(n) + 1, 0);  // counting sort by smallest new index
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    ++first[std::min({new_index[F(f, 0)], new_index[F(f, 1)], new_index[F(f, 2)]}) + 1];
-  for (int v = 0; v < n; ++v) first[v + 1] += first[v];
-  local.F.resize(F.rows(), 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int a = new_index[F(f, 0)], b = new_index[F(f, 1)], c = new_index[F(f, 2)];
-    local.F.row(first[std::min({a, b, c})]++) << a, b, c;
-  }
+    local.position[k] = V.row(local.vertex_order[k]).transpose();
+  });
+  std::vector<int> renumbered(3 * static_cast<std::size_t>(faces));
+  tbb::parallel_for(0, faces, [&](int f) {
+    for (int k = 0; k < 3; ++k) renumbered[3 * f + k] = new_index[F(f, k)];
+  });
+  const KeyBuckets order = bucket_by_key(faces, n, [&](int f) {
+    const int a = renumbered[3 * f], b = renumbered[3 * f + 1], c = renumbered[3 * f + 2];
+    return (a == b || b == c || c == a) ? -1 : std::min({a, b, c});
+  });
+  local.corners.resize(3 * order.items.size());
+  tbb::parallel_for(0, static_cast<int>(order.items.size()), [&](int slot) {
+    const int f = order.items[slot];
+    for (int k = 0; k < 3; ++k) local.corners[3 * slot + k] = renumbered[3 * f + k];
+  });
   return local;
 }
 
-/// Builds the half-edge mesh of F (faces with a repeated index dropped). Two half-edges are twins
-/// only when their edge has exactly these two, in opposite directions; every vertex whose faces
-/// then form more than one fan is split into one working vertex per fan (copies appended).
-HalfedgeMesh build_halfedge_mesh(const VertexRef& V, const FaceRef& F) {
+/// Builds the half-edge mesh of the faces `corners` (3 per face, no repeated index) on the
+/// vertices at `position`. Two half-edges are twins only when their edge has exactly these two,
+/// in opposite directions; every vertex whose faces then form more than one fan is split into
+/// one working vertex per fan (copies appended, in the order of their fans' first half-edges).
+HalfedgeMesh build_halfedge_mesh(std::vector<Vec3> position, std::vector<int> corners) {
   HalfedgeMesh mesh;
-  const int n = static_cast<int>(V.rows());
-  std::vector<int> faces;
-  faces.reserve(static_cast<std::size_t>(F.rows()) * 3);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    if (a == b || b == c || c == a) continue;
-    faces.insert(faces.end(), {a, b, c});
-  }
-  const int halfedges = static_cast<int>(faces.size());
-  mesh.corner_vertex = std::move(faces);
+  const int n = static_cast<int>(position.size());
+  const int halfedges = static_cast<int>(corners.size());
+  mesh.corner_vertex = std::move(corners);
   mesh.opposite.assign(halfedges, -1);
+  const std::vector<int>& corner = mesh.corner_vertex;
 
-  // Twins: bucket the half-edges by their smaller end vertex (counting sort), then within each
-  // bucket pair the edges that have exactly two half-edges, in opposite directions.
-  std::vector<int> bucket_start(static_cast<std::size_t>(n) + 1, 0);
-  for (int h = 0; h < halfedges; ++h)
-    ++bucket_start[std::min(mesh.corner_vertex[h], mesh.corner_vertex[next_halfedge(h)]) + 1];
-  for (int v = 0; v < n; ++v) bucket_start[v + 1] += bucket_start[v];
-  std::vector<int> bucket(halfedges), bucket_far(halfedges);  // half-edge, and its larger end
-  {
-    std::vector<int> fill(bucket_start.begin(), bucket_start.end() - 1);
-    for (int h = 0; h < halfedges; ++h) {
-      const int u = mesh.corner_vertex[h], w = mesh.corner_vertex[next_halfedge(h)];
-      const int slot = fill[std::min(u, w)]++;
-      bucket[slot] = h;
-      bucket_far[slot] = std::max(u, w);
-    }
-  }
-  tbb::parallel_for(0, n, [&](int v) {  // each bucket writes only its own half-edges' twins
-    const int begin = bucket_start[v], end = bucket_start[v + 1];
-    for (int i = begin; i < end; ++i) {
-      const int g = bucket[i], far = bucket_far[i];
-      int partners = 0, partner = -1;
-      for (int j = begin; j < end; ++j)
-        if (j != i && bucket_far[j] == far) { ++partners; partner = bucket[j]; }
-      if (partners == 1 && mesh.corner_vertex[g] != mesh.corner_vertex[partner]) mesh.opposite[g] = partner;
+  // Twins: bucket the half-edges by their smaller end vertex, then within each bucket pair the
+  // edges that have exactly two half-edges, in opposite directions.
+  const KeyBuckets buckets =
+      bucket_by_key(halfedges, n, [&](int h) { return std::min(corner[h], corner[next_halfedge(h)]); });
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
+    std::vector<int> far;  // the larger end of each half-edge of the bucket
+    for (int v = range.begin(); v < range.end(); ++v) {  // each bucket writes only its own half-edges' twins
+      const int* bucket = buckets.items.data() + buckets.start[v];
+      const int size = buckets.start[v + 1] - buckets.start[v];
+      far.resize(size);
+      for (int i = 0; i < size; ++i) far[i] = std::max(corner[bucket[i]], corner[next_halfedge(bucket[i])]);
+      for (int i = 0; i < size; ++i) {
+        int partners = 0, partner = -1;
+        for (int j = 0; j < size; ++j)
+          if (j != i && far[j] == far[i]) { ++partners; partner = bucket[j]; }
+        if (partners == 1 && corner[bucket[i]] != corner[partner]) mesh.opposite[bucket[i]] = partner;
+      }
     }
   });
 
-  // One working vertex per fan: walk each fan from an unvisited outgoing half-edge.
-  mesh.vertex_halfedge.assign(n, -1);
-  std::vector<int> origin(n);
-  for (int v = 0; v < n; ++v) origin[v] = v;
-  std::vector<std::uint8_t> visited(halfedges, 0);
-  std::vector<int> fan;
-  for (int start = 0; start < halfedges; ++start) {
-    if (visited[start]) continue;
-    const int v = mesh.corner_vertex[start];
-    fan.clear();
-    // Walk clockwise to the fan's end (or around), then collect counter-clockwise from there.
+  // Fans. The first of a fan is its clockwise end, or for a closed fan the counter-clockwise
+  // neighbour of where the walk started. fan_of(start, fn) reports the fan's half-edges from its
+  // first, counter-clockwise, and returns the first.
+  auto fan_of = [&mesh](int start, const auto& fn) {
     int first = start;
     for (int o = mesh.opposite[prev_halfedge(first)]; o >= 0 && o != start; o = mesh.opposite[prev_halfedge(first)])
       first = o;
-    int h = first;
-    while (true) {
-      fan.push_back(h);
+    for (int h = first;;) {
+      fn(h);
       const int o = mesh.opposite[h];
       if (o < 0) break;
       h = next_halfedge(o);
       if (h == first) break;
     }
-    int id = v;
-    if (mesh.vertex_halfedge[v] >= 0) {  // v already has a fan: this one gets a copy
-      id = static_cast<int>(origin.size());
-      origin.push_back(v);
-      mesh.vertex_halfedge.push_back(-1);
+    return first;
+  };
+  // Each vertex walks one fan from its smallest outgoing half-edge, in parallel; a vertex with
+  // a half-edge outside that fan has several and is redone below.
+  std::vector<int> smallest_outgoing(n, halfedges);
+  tbb::parallel_for(tbb::blocked_range<int>(0, halfedges, 1 << 14), [&](const tbb::blocked_range<int>& range) {
+    for (int h = range.begin(); h < range.end(); ++h) {  // atomic minimum: each vertex's smallest h
+      int* slot = &smallest_outgoing[corner[h]];
+      int seen = __atomic_load_n(slot, __ATOMIC_RELAXED);
+      while (h < seen && !__atomic_compare_exchange_n(slot, &seen, h, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+      }
     }
-    mesh.vertex_halfedge[id] = first;
-    for (const int g : fan) {
-      visited[g] = 1;
-      mesh.corner_vertex[g] = id;
-    }
-  }
-  const int working = static_cast<int>(origin.size());
-  mesh.position.resize(working);
-  for (int v = 0; v < working; ++v) mesh.position[v] = V.row(origin[v]).transpose();
-  if (working != n) mesh.split_origin = std::move(origin);
-
-  mesh.boundary.assign(working, 0);
+  });
+  mesh.vertex_halfedge.assign(n, -1);
+  mesh.boundary.assign(n, 0);
+  std::vector<std::uint8_t> walked(halfedges, 0);
+  tbb::parallel_for(0, n, [&](int v) {
+    if (smallest_outgoing[v] == halfedges) return;  // no face
+    bool open = false;
+    mesh.vertex_halfedge[v] = fan_of(smallest_outgoing[v], [&](int h) {
+      walked[h] = 1;
+      open = open || mesh.opposite[h] < 0;
+    });
+    mesh.boundary[v] = open || mesh.opposite[prev_halfedge(mesh.vertex_halfedge[v])] < 0;
+  });
+  std::vector<std::uint8_t> several_fans(n, 0);
+  bool any_several = false;
   for (int h = 0; h < halfedges; ++h)
-    if (mesh.opposite[h] < 0) {
-      mesh.boundary[mesh.corner_vertex[h]] = 1;
-      mesh.boundary[mesh.corner_vertex[next_halfedge(h)]] = 1;
+    if (!walked[h]) several_fans[corner[h]] = 1, any_several = true;
+  if (any_several) {
+    // In half-edge order, as a serial build would: each fan met first keeps the vertex, the
+    // others get copies appended.
+    std::vector<int> origin(n);
+    for (int v = 0; v < n; ++v) origin[v] = v;
+    for (int start = 0; start < halfedges; ++start) {
+      const int v = corner[start];
+      if (!several_fans[v] || walked[start] == 2) continue;
+      std::vector<int> fan;
+      const int first = fan_of(start, [&](int h) { fan.push_back(h); });
+      int id = v;
+      if (several_fans[v] == 2) {  // v already has a fan: this one gets a copy
+        id = static_cast<int>(origin.size());
+        origin.push_back(v);
+        mesh.vertex_halfedge.push_back(-1);
+        mesh.boundary.push_back(0);
+        position.push_back(position[v]);
+      }
+      several_fans[v] = 2;
+      mesh.vertex_halfedge[id] = first;
+      bool open = mesh.opposite[prev_halfedge(first)] < 0;
+      for (const int g : fan) {
+        walked[g] = 2;
+        mesh.corner_vertex[g] = id;
+        open = open || mesh.opposite[g] < 0;
+      }
+      mesh.boundary[id] = open;
     }
+    if (static_cast<int>(origin.size()) != n) mesh.split_origin = std::move(origin);
+  }
+  mesh.position = std::move(position);
   mesh.face_alive.assign(halfedges / 3, 1);
   return mesh;
 }
@@ -610,15 +633,39 @@ class CollapseQueue {
 
   CollapseQueue(std::vector<float>& queued_cost, const HalfedgeMesh& mesh) : cost_(queued_cost), mesh_(mesh) {}
 
-  /// Queues the edge (a canonical half-edge) at `cost` (finite), replacing its entry if any.
+  struct Entry {
+    std::uint64_t key;
+    int edge;
+    float cost;
+  };
+  /// The entry of the edge (a canonical half-edge) at `cost` (finite), not yet queued.
+  Entry entry(int edge, float cost) const {
+    const float length = static_cast<float>(
+        (mesh_.position[mesh_.from(edge)] - mesh_.position[mesh_.to(edge)]).squaredNorm());
+    return {(std::uint64_t(ordered_bits(cost)) << 32) | ordered_bits(length), edge, cost};
+  }
+  /// Queues the edge at `cost` (finite), replacing its entry if any.
   void set(int edge, float cost) {
     float& current = cost_[edge];
     if (current == kNotQueued) ++live_;
     current = cost;
-    const float length = static_cast<float>(
-        (mesh_.position[mesh_.from(edge)] - mesh_.position[mesh_.to(edge)]).squaredNorm());
-    const std::uint64_t key = (std::uint64_t(ordered_bits(cost)) << 32) | ordered_bits(length);
-    push({key, edge, cost});
+    push(entry(edge, cost));
+  }
+  /// Fills the empty queue with `lists`' entries (edges not queued, each once) in one pass: the
+  /// smallest key becomes the last settled one, so every entry goes straight to its bucket.
+  void assign(const std::vector<const std::vector<Entry>*>& lists) {
+    std::uint64_t lowest = std::numeric_limits<std::uint64_t>::max();
+    for (const auto* list : lists)
+      for (const Entry& e : *list) lowest = std::min(lowest, e.key);
+    if (lowest == std::numeric_limits<std::uint64_t>::max()) return;
+    last_ = std::max(last_, lowest);
+    for (const auto* list : lists)
+      for (const Entry& e : *list) {
+        cost_[e.edge] = e.cost;
+        ++live_;
+        buckets_[bucket_of(e.key)].push_back(e);
+      }
+    std::make_heap(buckets_[0].begin(), buckets_[0].end(), later);
   }
   /// Empties the queue, keeping its memory (the shared per-edge costs are the caller's).
   void clear() {
@@ -674,11 +721,6 @@ class CollapseQueue {
   void prefetch(int edge) const { __builtin_prefetch(&cost_[edge]); }
 
  private:
-  struct Entry {
-    std::uint64_t key;
-    int edge;
-    float cost;
-  };
   /// The float's bits, mapped so that unsigned order is the floats' order (negatives too).
   static std::uint32_t ordered_bits(float x) {
     std::uint32_t bits;
@@ -756,7 +798,9 @@ class GreedyCollapser {
     return locked_ == nullptr || (!locked_[mesh_.from(edge)] && !locked_[mesh_.to(edge)]);
   }
   Candidate evaluate(int edge) const { return decimator_.evaluate(edge); }
-  void queue(int edge, float cost) { heap_.set(edge, cost); }
+  CollapseQueue::Entry entry(int edge, float cost) const { return heap_.entry(edge, cost); }
+  /// Fills the (restarted) queue with the entries of `lists`.
+  void queue_all(const std::vector<const std::vector<CollapseQueue::Entry>*>& lists) { heap_.assign(lists); }
   /// The cost of the cheapest queued edge (+∞ when none).
   double top_cost() { return heap_.settle() ? heap_.top_cost() : kInfinity; }
 
@@ -882,32 +926,40 @@ std::vector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const P
 /// Fills each run's queue with its edges (an edge belongs to the part of its smaller half-edge's
 /// start vertex, and is skipped when that run may not queue it). `queued_cost` (the runs' shared
 /// per-edge costs) may still hold the costs of the runs before: an edge queued then keeps its
-/// cost; an edge that was not is costed (in parallel) only when `was_locked` (the previous
-/// runs' locks; null: none ran yet) held one of its ends — one rejected by the checks stays out
-/// until its ring changes, as in a single run.
+/// cost; an edge that was not is costed only when `was_locked` (the previous runs' locks; null:
+/// none ran yet) held one of its ends — one rejected by the checks stays out until its ring
+/// changes, as in a single run. The half-edges are costed in parallel by fixed chunks, each
+/// collecting its entries per run; then each run takes its lists in one pass.
 template <typename PartOf>
 void fill_queues(const HalfedgeMesh& mesh, const std::vector<GreedyCollapser*>& runs, const PartOf& part,
                  std::vector<float>& queued_cost, const std::vector<std::uint8_t>* was_locked,
                  const Progress& progress) {
-  const Eigen::Index halfedges = static_cast<Eigen::Index>(mesh.corner_vertex.size());
+  using Entry = CollapseQueue::Entry;
   constexpr float kNone = CollapseQueue::kNotQueued;
-  std::vector<float> cost(static_cast<std::size_t>(halfedges), kNone);
-  std::vector<std::uint8_t> run_of(static_cast<std::size_t>(halfedges));  // the run of each costed edge
-  parallel_for_with_progress(halfedges, progress, "edge costs", [&](Eigen::Index h) {
-    const int edge = static_cast<int>(h);
-    if (mesh.canonical(edge) != edge || !mesh.face_alive[edge / 3]) return;
-    const int r = part(mesh.from(edge));
-    const GreedyCollapser& run = *runs[r];
-    if (!run.may_queue(edge)) return;
-    run_of[h] = static_cast<std::uint8_t>(r);
-    if (queued_cost[h] != kNone) cost[h] = queued_cost[h];
-    else if (!was_locked || (*was_locked)[mesh.from(edge)] || (*was_locked)[mesh.to(edge)])
-      cost[h] = static_cast<float>(run.evaluate(edge).cost);
-  });
-  std::fill(queued_cost.begin(), queued_cost.end(), kNone);
-  tbb::parallel_for(0, static_cast<int>(runs.size()), [&](int r) {  // each run fills its own queue
-    for (Eigen::Index h = 0; h < halfedges; ++h)
-      if (cost[h] != kNone && run_of[h] == r) runs[r]->queue(static_cast<int>(h), cost[h]);
+  constexpr int kChunk = 1 << 14;
+  const int halfedges = static_cast<int>(mesh.corner_vertex.size());
+  const int chunks = (halfedges + kChunk - 1) / kChunk, run_count = static_cast<int>(runs.size());
+  std::vector<std::vector<Entry>> collected(static_cast<std::size_t>(chunks) * run_count);  // [chunk][run]
+  parallel_for_with_progress(chunks, progress, "edge costs", [&](Eigen::Index chunk) {
+    std::vector<Entry>* lists = &collected[chunk * run_count];
+    const int end = std::min(halfedges, static_cast<int>(chunk + 1) * kChunk);
+    for (int edge = static_cast<int>(chunk) * kChunk; edge < end; ++edge) {
+      const float carried = queued_cost[edge];
+      queued_cost[edge] = kNone;  // queue_all sets the cost of every edge queued again
+      if (mesh.canonical(edge) != edge || !mesh.face_alive[edge / 3]) continue;
+      const int r = part(mesh.from(edge));
+      const GreedyCollapser& run = *runs[r];
+      if (!run.may_queue(edge)) continue;
+      float cost = carried;
+      if (cost == kNone && (!was_locked || (*was_locked)[mesh.from(edge)] || (*was_locked)[mesh.to(edge)]))
+        cost = static_cast<float>(run.evaluate(edge).cost);
+      if (cost != kNone) lists[r].push_back(run.entry(edge, cost));
+    }
+  }, 1);
+  tbb::parallel_for(0, run_count, [&](int r) {
+    std::vector<const std::vector<Entry>*> lists(chunks);
+    for (int chunk = 0; chunk < chunks; ++chunk) lists[chunk] = &collected[static_cast<std::size_t>(chunk) * run_count + r];
+    runs[r]->queue_all(lists);
   });
 }
 
@@ -930,8 +982,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   if (V.rows() >= std::numeric_limits<int>::max() / 4 || F.rows() >= std::numeric_limits<int>::max() / 4)
     throw InputError("decimate: mesh too large (more than 2^29 vertices or faces)");
 
-  const LocalInput local = renumber_for_locality(V, F);
-  HalfedgeMesh mesh = build_halfedge_mesh(local.V, local.F);
+  LocalInput local = renumber_for_locality(V, F);
+  HalfedgeMesh mesh = build_halfedge_mesh(std::move(local.position), std::move(local.corners));
   const int face_slots = static_cast<int>(mesh.face_alive.size());
   if (face_slots == 0)
     throw InputError("decimate: every face of F has a repeated vertex index: no triangle to decimate");
