@@ -325,11 +325,12 @@ Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
             s * (c02 * q.b0 + c12 * q.b1 + c22 * q.b2)};
   }
   // Rank-one path (flat regions, where the pseudo-inverse keeps only the largest eigenvalue λ₁):
-  // power iteration from A's column of largest diagonal gives the top eigenvector u and
-  // λ₁ = uᵀAu; when the other two sum to tr A − λ₁ ≤ ½·10⁻³ λ₁, both are surely below the cut
-  // and the minimiser is reference + u·uᵀ(−b − A·reference)/λ₁. Each step shrinks the error in
-  // u by λ₂/λ₁ < ½·10⁻³, so four reach round-off. The quadric's weights make λ₁ of order one,
-  // so the powers need no normalization between the steps.
+  // power iteration from A's column of largest diagonal (itself one step from that axis) gives
+  // the top eigenvector's direction w and λ₁ = wᵀAw / wᵀw; when the other two sum to
+  // tr A − λ₁ ≤ ½·10⁻³ λ₁, both are surely below the cut and the minimiser is
+  // reference + w·wᵀ(−b − A·reference) / wᵀAw. Each step shrinks the error in w by λ₂/λ₁ <
+  // ½·10⁻³, so after three the direction is off by less than 10⁻¹³. The quadric's weights make
+  // λ₁ of order one, so w needs no normalization (nor a square root).
   if (trace > 0) {  // scalar code on the six distinct entries (Eigen's 3×3 products did not inline)
     auto times_a = [&q](const Vec3& x) -> Vec3 {
       return {q.a00 * x[0] + q.a01 * x[1] + q.a02 * x[2], q.a01 * x[0] + q.a11 * x[1] + q.a12 * x[2],
@@ -338,13 +339,12 @@ Vec3 optimal_position(const Quadric& q, const Vec3& reference) {
     const Vec3 start = (q.a00 >= q.a11 && q.a00 >= q.a22) ? Vec3(q.a00, q.a01, q.a02)
                        : (q.a11 >= q.a22)                  ? Vec3(q.a01, q.a11, q.a12)
                                                            : Vec3(q.a02, q.a12, q.a22);
-    Vec3 u = times_a(times_a(times_a(times_a(start))));
-    u.normalize();
-    const Vec3 au = times_a(u);
-    const double lambda = u.dot(au);
-    if (lambda > 0 && std::isfinite(lambda) && trace - lambda <= 0.5e-3 * lambda) {
+    const Vec3 w = times_a(times_a(times_a(start)));
+    const Vec3 aw = times_a(w);
+    const double rayleigh = w.dot(aw), norm2 = w.squaredNorm();  // λ₁ = rayleigh / norm2
+    if (rayleigh > 0 && norm2 > 0 && std::isfinite(rayleigh) && (trace * norm2 - rayleigh) <= 0.5e-3 * rayleigh) {
       const Vec3 residual = -q.b() - times_a(reference);
-      return reference + u * (u.dot(residual) / lambda);
+      return reference + w * (w.dot(residual) / rayleigh);
     }
   }
   return q.minimizer(reference);
@@ -388,7 +388,7 @@ class Decimator {
     }
     const Quadric q = quadric_[u] + quadric_[v];
     const Vec3 target = optimal_position(q, 0.5 * (mesh_.position[u] + mesh_.position[v]));
-    return {cost_of(u, v, target), h, target};
+    return {options_.cost == CollapseCost::quadric ? q.error(target) : cost_of(u, v, target), h, target};
   }
 
   // Multiple-choice and the heap store candidates by half-edge; a boundary half-edge collapsed
@@ -419,46 +419,51 @@ class Decimator {
     const bool interior_edge = h0 >= 0 && h1 >= 0;
     if (interior_edge && mesh_.boundary[a] && mesh_.boundary[b]) return false;
 
-    // Link condition: the common neighbours of a and b are exactly the opposite vertices. One
-    // pass marks a's neighbours (stamp) and counts them; the pass over b's counts its neighbours
-    // (marking them stamp + 1) and the common ones.
+    // One walk around each end. Link condition: the common neighbours of a and b are exactly the
+    // opposite vertices — the walk around a marks its neighbours (stamp) and counts them, the
+    // walk around b counts its own (marking them stamp + 1) and the common ones. Fairness: the
+    // faces that survive around a (and around b when it moves) checked at the target.
     stamp_ += 2;
     const int seen_by_a = stamp_, seen_by_b = stamp_ + 1;
+    const int dead0 = h0 >= 0 ? h0 / 3 : -1, dead1 = h1 >= 0 ? h1 / 3 : -1;
     int valence_a = 0, valence_b = 0, common = 0;
-    bool link_ok = true;
-    mesh_.for_each_neighbour(a, [&](int x) {
+    bool ok = true;
+    auto mark_by_a = [&](int x) {
       if (mark_[x] != seen_by_a) { mark_[x] = seen_by_a; ++valence_a; }
-    });
-    mesh_.for_each_neighbour(b, [&](int x) {
+    };
+    auto mark_by_b = [&](int x) {
       if (mark_[x] == seen_by_b) return;
       if (mark_[x] == seen_by_a) {
         ++common;
-        if (x != left && x != right) link_ok = false;
+        if (x != left && x != right) ok = false;
       }
       mark_[x] = seen_by_b;
       ++valence_b;
+    };
+    mesh_.for_each_outgoing(a, [&](int h) {
+      if (!ok) return;
+      const int p = mesh_.to(h), q = mesh_.from(prev_halfedge(h));
+      mark_by_a(p);
+      mark_by_a(q);
+      const int f = h / 3;
+      if (f != dead0 && f != dead1)
+        ok = face_stays_fair(mesh_.position[a], c.target, mesh_.position[p], mesh_.position[q]);
     });
-    if (!link_ok) return false;
+    if (!ok) return false;
+    const bool b_moves = c.target != mesh_.position[b];
+    mesh_.for_each_outgoing(b, [&](int h) {
+      if (!ok) return;
+      const int p = mesh_.to(h), q = mesh_.from(prev_halfedge(h));
+      mark_by_b(p);
+      mark_by_b(q);
+      const int f = h / 3;
+      if (ok && b_moves && f != dead0 && f != dead1)
+        ok = face_stays_fair(mesh_.position[b], c.target, mesh_.position[p], mesh_.position[q]);
+    });
+    if (!ok) return false;
     // A tetrahedron (closed, both valence 3) cannot lose a vertex and stay a surface.
     if (interior_edge && valence_a == 3 && valence_b == 3) return false;
-    if (options_.max_valence > 0 && valence_a + valence_b - 2 - common > options_.max_valence) return false;
-
-    // Fairness on the faces that survive around a (and around b when it moves).
-    const int dead0 = h0 >= 0 ? h0 / 3 : -1, dead1 = h1 >= 0 ? h1 / 3 : -1;
-    bool fair = true;
-    auto check_faces_around = [&](int v) {
-      mesh_.for_each_outgoing(v, [&](int h) {
-        if (!fair) return;
-        const int f = h / 3;
-        if (f == dead0 || f == dead1) return;
-        const Vec3& p = mesh_.position[mesh_.to(h)];
-        const Vec3& q = mesh_.position[mesh_.from(prev_halfedge(h))];
-        fair = face_stays_fair(mesh_.position[v], c.target, p, q);
-      });
-    };
-    check_faces_around(a);
-    if (fair && c.target != mesh_.position[b]) check_faces_around(b);
-    return fair;
+    return !(options_.max_valence > 0 && valence_a + valence_b - 2 - common > options_.max_valence);
   }
 
   /// Performs the collapse `c` (admissible) and returns its record.
@@ -592,14 +597,14 @@ class Decimator {
     const Vec3 old_normal = (p - before).cross(q - before);
     const Vec3 new_normal = (p - after).cross(q - after);
     const double dot = old_normal.dot(new_normal);
-    const double old_norm = old_normal.norm();
-    if (options_.prevent_normal_flips && old_norm > 0 && !(dot > 0)) return false;
-    if (min_normal_cosine_ > -1 && old_norm > 0 && dot < min_normal_cosine_ * old_norm * new_normal.norm())
+    const bool has_area = old_normal.squaredNorm() > 0;
+    if (options_.prevent_normal_flips && has_area && !(dot > 0)) return false;
+    if (min_normal_cosine_ > -1 && has_area && dot < min_normal_cosine_ * old_normal.norm() * new_normal.norm())
       return false;
     if (options_.min_triangle_quality > 0) {
       const double quality_after = triangle_quality(new_normal.norm(), after, p, q);
       if (quality_after < options_.min_triangle_quality &&
-          quality_after < triangle_quality(old_norm, before, p, q))
+          quality_after < triangle_quality(old_normal.norm(), before, p, q))
         return false;
     }
     return true;
@@ -697,15 +702,19 @@ class CollapseQueue {
       int i = 1;
       while (buckets_[i].empty()) ++i;  // live_ > 0: some bucket holds a live entry
       std::vector<Entry>& bucket = buckets_[i];
+      // Drop the stale entries (each checked once) and find the smallest live key.
       std::uint64_t lowest = std::numeric_limits<std::uint64_t>::max();
+      std::size_t live = 0;
       for (const Entry& e : bucket)
-        if (is_live(e)) lowest = std::min(lowest, e.key);
-      if (lowest != std::numeric_limits<std::uint64_t>::max()) {
-        last_ = lowest;  // every live key of this bucket now lands in a lower one
-        for (const Entry& e : bucket)
-          if (is_live(e)) buckets_[bucket_of(e.key)].push_back(e);
-        std::make_heap(first.begin(), first.end(), later);
-      }
+        if (is_live(e)) {
+          lowest = std::min(lowest, e.key);
+          bucket[live++] = e;
+        }
+      bucket.resize(live);
+      if (live == 0) continue;
+      last_ = lowest;  // every live key of this bucket now lands in a lower one
+      for (const Entry& e : bucket) buckets_[bucket_of(e.key)].push_back(e);
+      std::make_heap(first.begin(), first.end(), later);
       bucket.clear();
     }
   }
@@ -738,6 +747,8 @@ class CollapseQueue {
     if (b == 0) std::push_heap(buckets_[0].begin(), buckets_[0].end(), later);
   }
 
+  /// Buckets with at most this many live entries move into the heap whole.
+  static constexpr std::size_t kWholeBucket = 64;
   std::vector<Entry> buckets_[65];
   std::uint64_t last_ = 0;  ///< the key of the last settled top; every entry's key is >= it
   std::size_t live_ = 0;
