@@ -747,8 +747,6 @@ class CollapseQueue {
     if (b == 0) std::push_heap(buckets_[0].begin(), buckets_[0].end(), later);
   }
 
-  /// Buckets with at most this many live entries move into the heap whole.
-  static constexpr std::size_t kWholeBucket = 64;
   std::vector<Entry> buckets_[65];
   std::uint64_t last_ = 0;  ///< the key of the last settled top; every entry's key is >= it
   std::size_t live_ = 0;
