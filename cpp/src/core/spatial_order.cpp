@@ -1,4 +1,5 @@
 #include <meshsmith/core/spatial_order.h>
+#include <meshsmith/core/large_vector.h>
 
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_sort.h>
@@ -24,7 +25,7 @@ std::uint64_t spread_bits(std::uint64_t x) {
 
 }  // namespace
 
-std::vector<int> morton_order(const VertexRef& P) {
+LargeVector<int> morton_order(const VertexRef& P) {
   const Eigen::Index n = P.rows();
   Eigen::RowVector3d low = Eigen::RowVector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::RowVector3d high = -low;
@@ -38,7 +39,7 @@ std::vector<int> morton_order(const VertexRef& P) {
 
   // (code, index) pairs: the index in the low bits breaks ties by input order.
   struct Keyed { std::uint64_t code; int index; };
-  std::vector<Keyed> keyed(static_cast<std::size_t>(n));
+  LargeVector<Keyed> keyed(static_cast<std::size_t>(n));
   tbb::parallel_for(Eigen::Index(0), n, [&](Eigen::Index i) {
     std::uint64_t code = 0;
     if (scale > 0 && P.row(i).allFinite())
@@ -51,7 +52,7 @@ std::vector<int> morton_order(const VertexRef& P) {
   tbb::parallel_sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
     return a.code != b.code ? a.code < b.code : a.index < b.index;
   });
-  std::vector<int> order(static_cast<std::size_t>(n));
+  LargeVector<int> order(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i) order[i] = keyed[i].index;
   return order;
 }

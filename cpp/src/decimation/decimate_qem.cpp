@@ -3,6 +3,7 @@
 // and fairness criteria around one greedy loop, run by spatial parts at once on large meshes.
 #include <meshsmith/core/counting_sort.h>
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/large_vector.h>
 #include <meshsmith/core/parallel.h>
 #include <meshsmith/core/spatial_order.h>
 #include <meshsmith/core/validation.h>
@@ -39,13 +40,13 @@ inline int next_halfedge(int h) { return (h % 3 == 2) ? h - 2 : h + 1; }
 inline int prev_halfedge(int h) { return (h % 3 == 0) ? h + 2 : h - 1; }
 
 struct HalfedgeMesh {
-  std::vector<Vec3> position;        // per working vertex
-  std::vector<int> corner_vertex;    // 3#F: start vertex of each half-edge
-  std::vector<int> opposite;         // 3#F: twin half-edge, −1 on the boundary
-  std::vector<int> vertex_halfedge;  // per vertex: an outgoing half-edge of a live face, or −1
-  std::vector<std::uint8_t> boundary;    // per vertex
-  std::vector<std::uint8_t> face_alive;  // per face
-  std::vector<int> split_origin;     // per working vertex: input vertex (empty: identity)
+  LargeVector<Vec3> position;        // per working vertex
+  LargeVector<int> corner_vertex;    // 3#F: start vertex of each half-edge
+  LargeVector<int> opposite;         // 3#F: twin half-edge, −1 on the boundary
+  LargeVector<int> vertex_halfedge;  // per vertex: an outgoing half-edge of a live face, or −1
+  LargeVector<std::uint8_t> boundary;    // per vertex
+  LargeVector<std::uint8_t> face_alive;  // per face
+  LargeVector<int> split_origin;     // per working vertex: input vertex (empty: identity)
 
   int from(int h) const { return corner_vertex[h]; }
   int to(int h) const { return corner_vertex[next_halfedge(h)]; }
@@ -93,9 +94,9 @@ struct HalfedgeMesh {
 /// sits close together in every per-vertex and per-half-edge array (1.3× faster on 1.3M faces).
 /// Faces with a repeated vertex index are dropped.
 struct LocalInput {
-  std::vector<Vec3> position;     ///< per new vertex
-  std::vector<int> corners;       ///< 3 per kept face: its new vertex indices
-  std::vector<int> vertex_order;  ///< new vertex → input vertex
+  LargeVector<Vec3> position;     ///< per new vertex
+  LargeVector<int> corners;       ///< 3 per kept face: its new vertex indices
+  LargeVector<int> vertex_order;  ///< new vertex → input vertex
   int to_input(int working) const {  // working vertex → input numbering (split copies keep theirs)
     return working >= 0 && working < static_cast<int>(vertex_order.size()) ? vertex_order[working] : working;
   }
@@ -105,13 +106,13 @@ LocalInput renumber_for_locality(const VertexRef& V, const FaceRef& F) {
   LocalInput local;
   const int n = static_cast<int>(V.rows()), faces = static_cast<int>(F.rows());
   local.vertex_order = morton_order(V);
-  std::vector<int> new_index(n);
+  LargeVector<int> new_index(n);
   local.position.resize(n);
   tbb::parallel_for(0, n, [&](int k) {
     new_index[local.vertex_order[k]] = k;
     local.position[k] = V.row(local.vertex_order[k]).transpose();
   });
-  std::vector<int> renumbered(3 * static_cast<std::size_t>(faces));
+  LargeVector<int> renumbered(3 * static_cast<std::size_t>(faces));
   tbb::parallel_for(0, faces, [&](int f) {
     for (int k = 0; k < 3; ++k) renumbered[3 * f + k] = new_index[F(f, k)];
   });
@@ -131,20 +132,20 @@ LocalInput renumber_for_locality(const VertexRef& V, const FaceRef& F) {
 /// vertices at `position`. Two half-edges are twins only when their edge has exactly these two,
 /// in opposite directions; every vertex whose faces then form more than one fan is split into
 /// one working vertex per fan (copies appended, in the order of their fans' first half-edges).
-HalfedgeMesh build_halfedge_mesh(std::vector<Vec3> position, std::vector<int> corners) {
+HalfedgeMesh build_halfedge_mesh(LargeVector<Vec3> position, LargeVector<int> corners) {
   HalfedgeMesh mesh;
   const int n = static_cast<int>(position.size());
   const int halfedges = static_cast<int>(corners.size());
   mesh.corner_vertex = std::move(corners);
   mesh.opposite.assign(halfedges, -1);
-  const std::vector<int>& corner = mesh.corner_vertex;
+  const LargeVector<int>& corner = mesh.corner_vertex;
 
   // Twins: bucket the half-edges by their smaller end vertex, then within each bucket pair the
   // edges that have exactly two half-edges, in opposite directions.
   const KeyBuckets buckets =
       bucket_by_key(halfedges, n, [&](int h) { return std::min(corner[h], corner[next_halfedge(h)]); });
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int> far;  // the larger end of each half-edge of the bucket
+    LargeVector<int> far;  // the larger end of each half-edge of the bucket
     for (int v = range.begin(); v < range.end(); ++v) {  // each bucket writes only its own half-edges' twins
       const int* bucket = buckets.items.data() + buckets.start[v];
       const int size = buckets.start[v + 1] - buckets.start[v];
@@ -177,7 +178,7 @@ HalfedgeMesh build_halfedge_mesh(std::vector<Vec3> position, std::vector<int> co
   };
   // Each vertex walks one fan from its smallest outgoing half-edge, in parallel; a vertex with
   // a half-edge outside that fan has several and is redone below.
-  std::vector<int> smallest_outgoing(n, halfedges);
+  LargeVector<int> smallest_outgoing(n, halfedges);
   tbb::parallel_for(tbb::blocked_range<int>(0, halfedges, 1 << 14), [&](const tbb::blocked_range<int>& range) {
     for (int h = range.begin(); h < range.end(); ++h) {  // atomic minimum: each vertex's smallest h
       int* slot = &smallest_outgoing[corner[h]];
@@ -188,7 +189,7 @@ HalfedgeMesh build_halfedge_mesh(std::vector<Vec3> position, std::vector<int> co
   });
   mesh.vertex_halfedge.assign(n, -1);
   mesh.boundary.assign(n, 0);
-  std::vector<std::uint8_t> walked(halfedges, 0);
+  LargeVector<std::uint8_t> walked(halfedges, 0);
   tbb::parallel_for(0, n, [&](int v) {
     if (smallest_outgoing[v] == halfedges) return;  // no face
     bool open = false;
@@ -198,19 +199,19 @@ HalfedgeMesh build_halfedge_mesh(std::vector<Vec3> position, std::vector<int> co
     });
     mesh.boundary[v] = open || mesh.opposite[prev_halfedge(mesh.vertex_halfedge[v])] < 0;
   });
-  std::vector<std::uint8_t> several_fans(n, 0);
+  LargeVector<std::uint8_t> several_fans(n, 0);
   bool any_several = false;
   for (int h = 0; h < halfedges; ++h)
     if (!walked[h]) several_fans[corner[h]] = 1, any_several = true;
   if (any_several) {
     // In half-edge order, as a serial build would: each fan met first keeps the vertex, the
     // others get copies appended.
-    std::vector<int> origin(n);
+    LargeVector<int> origin(n);
     for (int v = 0; v < n; ++v) origin[v] = v;
     for (int start = 0; start < halfedges; ++start) {
       const int v = corner[start];
       if (!several_fans[v] || walked[start] == 2) continue;
-      std::vector<int> fan;
+      LargeVector<int> fan;
       const int first = fan_of(start, [&](int h) { fan.push_back(h); });
       int id = v;
       if (several_fans[v] == 2) {  // v already has a fan: this one gets a copy
@@ -253,10 +254,10 @@ constexpr double kSharpEdgeConstraintWeight = 1.0;
 /// An edge is sharp when its faces' normals differ by more than 60°.
 constexpr double kSharpCosine = 0.5;
 
-std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_planes, const Progress& progress) {
+LargeVector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_planes, const Progress& progress) {
   const int faces = static_cast<int>(mesh.face_alive.size());
-  std::vector<Vec3> normal(faces);          // unit normal (zero for a zero-area face)
-  std::vector<double> double_area(faces);  // twice the area
+  LargeVector<Vec3> normal(faces);          // unit normal (zero for a zero-area face)
+  LargeVector<double> double_area(faces);  // twice the area
   parallel_for_with_progress(faces, progress.subrange(0.0, 0.3), "face planes", [&](Eigen::Index f) {
     const Vec3& p = mesh.position[mesh.corner_vertex[3 * f]];
     const Vec3& q = mesh.position[mesh.corner_vertex[3 * f + 1]];
@@ -278,7 +279,7 @@ std::vector<Quadric> initial_quadrics(const HalfedgeMesh& mesh, bool boundary_pl
   };
   // Per vertex, in parallel (no per-face quadrics are stored): the planes of its faces, and the
   // constraint planes of its boundary edges and its sharp edges.
-  std::vector<Quadric> quadric(mesh.position.size());
+  LargeVector<Quadric> quadric(mesh.position.size());
   parallel_for_with_progress(static_cast<Eigen::Index>(quadric.size()), progress.subrange(0.3, 1.0), "quadrics",
                              [&](Eigen::Index vertex) {
     const int v = static_cast<int>(vertex);
@@ -365,7 +366,7 @@ class Decimator {
  public:
   /// `quadric`: per working vertex, shared by every Decimator of the mesh (each owns only its
   /// scratch marks, so several can work on disjoint parts of one mesh at the same time).
-  Decimator(HalfedgeMesh& mesh, std::vector<Quadric>& quadric, const QemOptions& options)
+  Decimator(HalfedgeMesh& mesh, LargeVector<Quadric>& quadric, const QemOptions& options)
       : mesh_(mesh), options_(options), quadric_(quadric), mark_(mesh.position.size(), 0) {
     if (options_.max_normal_deviation_deg > 0)
       min_normal_cosine_ = std::cos(options_.max_normal_deviation_deg * kDegree);
@@ -505,7 +506,7 @@ class Decimator {
   }
 
   /// The faces removed by the last collapse (the multiple-choice variant drops them from its list).
-  std::vector<int> died;
+  LargeVector<int> died;
 
  private:
   /// Which ends of the edge of h may be removed (keep_boundary: a boundary vertex only along a
@@ -617,8 +618,8 @@ class Decimator {
 
   HalfedgeMesh& mesh_;
   const QemOptions& options_;
-  std::vector<Quadric>& quadric_;
-  std::vector<int> mark_;
+  LargeVector<Quadric>& quadric_;
+  LargeVector<int> mark_;
   int stamp_ = 0;
   double min_normal_cosine_ = -2;
 };
@@ -636,7 +637,7 @@ class CollapseQueue {
  public:
   static constexpr float kNotQueued = std::numeric_limits<float>::infinity();
 
-  CollapseQueue(std::vector<float>& queued_cost, const HalfedgeMesh& mesh) : cost_(queued_cost), mesh_(mesh) {}
+  CollapseQueue(LargeVector<float>& queued_cost, const HalfedgeMesh& mesh) : cost_(queued_cost), mesh_(mesh) {}
 
   struct Entry {
     std::uint64_t key;
@@ -693,7 +694,7 @@ class CollapseQueue {
         for (auto& bucket : buckets_) bucket.clear();
         return false;
       }
-      std::vector<Entry>& first = buckets_[0];
+      auto& first = buckets_[0];
       while (!first.empty() && !is_live(first.front())) {
         std::pop_heap(first.begin(), first.end(), later);
         first.pop_back();
@@ -701,7 +702,7 @@ class CollapseQueue {
       if (!first.empty()) return true;
       int i = 1;
       while (buckets_[i].empty()) ++i;  // live_ > 0: some bucket holds a live entry
-      std::vector<Entry>& bucket = buckets_[i];
+      auto& bucket = buckets_[i];
       // Drop the stale entries (each checked once) and find the smallest live key.
       std::uint64_t lowest = std::numeric_limits<std::uint64_t>::max();
       std::size_t live = 0;
@@ -747,10 +748,10 @@ class CollapseQueue {
     if (b == 0) std::push_heap(buckets_[0].begin(), buckets_[0].end(), later);
   }
 
-  std::vector<Entry> buckets_[65];
+  LargeVector<Entry> buckets_[65];
   std::uint64_t last_ = 0;  ///< the key of the last settled top; every entry's key is >= it
   std::size_t live_ = 0;
-  std::vector<float>& cost_;
+  LargeVector<float>& cost_;
   const HalfedgeMesh& mesh_;
 };
 
@@ -791,8 +792,8 @@ void check_options(const QemOptions& options) {
 /// one, which stays put, was measured: Hausdorff 13% worse on average, 2.5× on fandisk at 10%.)
 class GreedyCollapser {
  public:
-  GreedyCollapser(HalfedgeMesh& mesh, std::vector<Quadric>& quadric, const QemOptions& options,
-                  std::vector<float>& queued_cost, const std::uint8_t* locked)
+  GreedyCollapser(HalfedgeMesh& mesh, LargeVector<Quadric>& quadric, const QemOptions& options,
+                  LargeVector<float>& queued_cost, const std::uint8_t* locked)
       : mesh_(mesh), options_(options), decimator_(mesh, quadric, options), heap_(queued_cost, mesh), locked_(locked) {
     ring_.reserve(64);
   }
@@ -885,7 +886,7 @@ class GreedyCollapser {
   Decimator decimator_;
   CollapseQueue heap_;
   const std::uint8_t* locked_;
-  std::vector<int> ring_;
+  LargeVector<int> ring_;
 };
 
 /// Meshes with at least this many faces run the parallel phase first.
@@ -920,9 +921,9 @@ int part_of(int v, int vertices, int parts, int shift) {
 /// Per working vertex: 1 when it has a neighbour in another part (its edges wait for the
 /// serial finish).
 template <typename PartOf>
-std::vector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const PartOf& part) {
+LargeVector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const PartOf& part) {
   const int n = static_cast<int>(mesh.position.size());
-  std::vector<std::uint8_t> locked(n, 0);
+  LargeVector<std::uint8_t> locked(n, 0);
   tbb::parallel_for(0, n, [&](int v) {
     const int own = part(v);
     mesh.for_each_neighbour(v, [&](int u) {
@@ -941,7 +942,7 @@ std::vector<std::uint8_t> part_border_vertices(const HalfedgeMesh& mesh, const P
 /// collecting its entries per run; then each run takes its lists in one pass.
 template <typename PartOf>
 void fill_queues(const HalfedgeMesh& mesh, const std::vector<GreedyCollapser*>& runs, const PartOf& part,
-                 std::vector<float>& queued_cost, const std::vector<std::uint8_t>* was_locked,
+                 LargeVector<float>& queued_cost, const LargeVector<std::uint8_t>* was_locked,
                  const Progress& progress) {
   using Entry = CollapseQueue::Entry;
   constexpr float kNone = CollapseQueue::kNotQueued;
@@ -996,7 +997,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   const int face_slots = static_cast<int>(mesh.face_alive.size());
   if (face_slots == 0)
     throw InputError("decimate: every face of F has a repeated vertex index: no triangle to decimate");
-  std::vector<Quadric> quadric = initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1));
+  LargeVector<Quadric> quadric = initial_quadrics(mesh, options.keep_boundary, progress.subrange(0.0, 0.1));
 
   QemResult result;
   Eigen::Index faces = face_slots;
@@ -1016,7 +1017,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   auto done = [&] { return target > 0 && faces <= target; };
 
   if (options.candidates == 0) {
-    std::vector<float> queued_cost(3 * static_cast<std::size_t>(face_slots), CollapseQueue::kNotQueued);
+    LargeVector<float> queued_cost(3 * static_cast<std::size_t>(face_slots), CollapseQueue::kNotQueued);
     auto absorb = [&](GreedyCollapser& run) {  // a finished run's counts and records into the result
       faces -= run.faces_removed;
       result.collapse_count += run.collapse_count;
@@ -1027,7 +1028,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
     };
     const Eigen::Index parallel_stop = parallel_phase_stop(face_slots, target, options);
     std::vector<std::unique_ptr<GreedyCollapser>> collapsers;  // kept across the stages and the finish
-    std::vector<std::uint8_t> was_locked;  // the locks of the last stage of the parallel phase
+    LargeVector<std::uint8_t> was_locked;  // the locks of the last stage of the parallel phase
     if (parallel_stop > 0) {
       // Parallel phase (large meshes): the mesh is cut into spatial parts (ranges of the Morton
       // numbering), each decimated by its own greedy run over the edges whose ends are not next
@@ -1050,10 +1051,10 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       }
       for (int stage = 0; faces > parallel_stop && !exhausted; ++stage) {
         const int shift = (stage % 2) * (vertices / (2 * parts));
-        std::vector<std::uint8_t> part_index(vertices);  // looked up millions of times: no divisions
+        LargeVector<std::uint8_t> part_index(vertices);  // looked up millions of times: no divisions
         tbb::parallel_for(0, vertices, [&](int v) { part_index[v] = static_cast<std::uint8_t>(part_of(v, vertices, parts, shift)); });
         const auto part = [&](int v) { return static_cast<int>(part_index[v]); };
-        std::vector<std::uint8_t> locked = part_border_vertices(mesh, part);
+        LargeVector<std::uint8_t> locked = part_border_vertices(mesh, part);
         for (GreedyCollapser* run : runs) run->restart(locked.data());
         fill_queues(mesh, runs, part, queued_cost, stage == 0 ? nullptr : &was_locked,
                     stage == 0 ? progress.subrange(0.1, 0.2) : Progress());
@@ -1100,7 +1101,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       ++result.collapse_count;
       if (options.record_collapses) keep_record(record);
     };
-    std::vector<int> live(face_slots), slot_of(face_slots);
+    LargeVector<int> live(face_slots), slot_of(face_slots);
     for (int f = 0; f < face_slots; ++f) live[f] = slot_of[f] = f;
     SplitMix64 random{options.seed};
     const int patience = 1000;  // consecutive steps without an admissible collapse below the bound
@@ -1135,7 +1136,7 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   result.target_reached = done();
 
   // Compact the live faces and their vertices.
-  std::vector<int> new_index(mesh.position.size(), -1);
+  LargeVector<int> new_index(mesh.position.size(), -1);
   Eigen::Index output_vertices = 0;
   for (int f = 0; f < face_slots; ++f)
     if (mesh.face_alive[f])

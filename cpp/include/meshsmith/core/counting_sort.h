@@ -3,6 +3,8 @@
 /// Stable counting sort of item ids by a small integer key, in parallel by fixed chunks: the
 /// building block of the mesh builders' "bucket the half-edges by their smaller vertex" and
 /// "order the faces by their first vertex" steps.
+#include <meshsmith/core/large_vector.h>
+
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
@@ -15,8 +17,8 @@ namespace meshsmith {
 /// The items of each key, contiguous: items[start[k] .. start[k+1]) are the ids with key k, in
 /// increasing order.
 struct KeyBuckets {
-  std::vector<int> start;  ///< keys + 1 offsets into items
-  std::vector<int> items;  ///< the ids with a key, sorted by (key, id)
+  LargeVector<int> start;  ///< keys + 1 offsets into items
+  LargeVector<int> items;  ///< the ids with a key, sorted by (key, id)
 };
 
 /// Sorts the ids 0..n−1 by key_of(id) ∈ [0, keys), or −1 to leave the id out. key_of is called
@@ -29,7 +31,7 @@ KeyBuckets bucket_by_key(int n, int keys, const KeyOf& key_of) {
   const int chunks = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), n / kMinChunk));
   const int chunk_size = chunks > 0 ? (n + chunks - 1) / chunks : 0;
   // offset[c·keys + k]: first the count of key k in chunk c, then where chunk c writes its next k.
-  std::vector<int> offset(static_cast<std::size_t>(chunks) * keys, 0);
+  LargeVector<int> offset(static_cast<std::size_t>(chunks) * keys, 0);
   tbb::parallel_for(0, chunks, [&](int c) {
     int* count = offset.data() + static_cast<std::size_t>(c) * keys;
     for (int i = c * chunk_size, end = std::min(n, (c + 1) * chunk_size); i < end; ++i) {

@@ -3,6 +3,7 @@
 /// Orders points along a space-filling curve so that points close in space get close indices:
 /// algorithms that walk a mesh locally (decimation, traversals) then touch memory that is
 /// already in cache.
+#include <meshsmith/core/large_vector.h>
 #include <meshsmith/core/types.h>
 
 #include <vector>
@@ -14,6 +15,6 @@ namespace meshsmith {
 /// (same cell) keep their input order, so the result is deterministic. Codes are computed in
 /// parallel. Non-finite rows are placed as if at the box's minimum corner.
 /// O(n log n) time, 16 bytes per point of scratch memory.
-std::vector<int> morton_order(const VertexRef& P);
+LargeVector<int> morton_order(const VertexRef& P);
 
 }  // namespace meshsmith
