@@ -292,6 +292,24 @@ def test_non_manifold_input_is_split_not_torn(data_dir, name):
     assert (V2 >= V.min(0) - 1e-9).all() and (V2 <= V.max(0) + 1e-9).all()
 
 
+def test_large_pinched_input_is_split_by_the_parallel_build():
+    # Two spheres pinched at one vertex, large enough (164k faces) for the chunked, parallel
+    # half-edge build and the parallel phase: the pinch becomes one vertex per sphere, nothing
+    # else is split, and both spheres stay closed surfaces.
+    V, F = bumpy_sphere(6)
+    n = len(V)
+    top, bottom = int(np.argmax(V[:, 2])), int(np.argmin(V[:, 2]))
+    F_upper = F + n
+    F_upper[F_upper == bottom + n] = top  # the upper sphere's bottom is the lower one's top
+    V_all, F_all = np.vstack([V, V + (V[top] - V[bottom])]), np.vstack([F, F_upper])
+    assert not topology.is_manifold(F_all)
+    V2, F2, report = decimation.decimate(V_all, F_all, ratio=0.1, return_report=True)
+    assert len(report.split_vertex_origin) == len(V_all) + 1 and report.split_vertex_origin[-1] == top
+    assert len(F2) == int(round(0.1 * len(F_all)))
+    assert topology.is_manifold(F2) and topology.connected_components(F2).count == 2
+    assert len(np.unique(F2)) - len(topology.edges(F2)) + len(F2) == 4  # χ = 2 per sphere
+
+
 def test_defects_zero_area_duplicates_components_and_holes(data_dir):
     V, F = bumpy_sphere(3)
     n = len(V)
