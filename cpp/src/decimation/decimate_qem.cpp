@@ -441,27 +441,20 @@ class Decimator {
       mark_[x] = seen_by_b;
       ++valence_b;
     };
-    mesh_.for_each_outgoing(a, [&](int h) {
-      if (!ok) return;
-      const int p = mesh_.to(h), q = mesh_.from(prev_halfedge(h));
-      mark_by_a(p);
-      mark_by_a(q);
-      const int f = h / 3;
-      if (f != dead0 && f != dead1)
-        ok = face_stays_fair(mesh_.position[a], c.target, mesh_.position[p], mesh_.position[q]);
-    });
-    if (!ok) return false;
-    const bool b_moves = c.target != mesh_.position[b];
-    mesh_.for_each_outgoing(b, [&](int h) {
-      if (!ok) return;
-      const int p = mesh_.to(h), q = mesh_.from(prev_halfedge(h));
-      mark_by_b(p);
-      mark_by_b(q);
-      const int f = h / 3;
-      if (ok && b_moves && f != dead0 && f != dead1)
-        ok = face_stays_fair(mesh_.position[b], c.target, mesh_.position[p], mesh_.position[q]);
-    });
-    if (!ok) return false;
+    // v's fan: its neighbours marked by `mark`, its surviving faces checked when v moves.
+    auto walk = [&](int v, const auto& mark, bool moves) {
+      mesh_.for_each_outgoing(v, [&](int h) {
+        if (!ok) return;
+        const int p = mesh_.to(h), q = mesh_.from(prev_halfedge(h));
+        mark(p);
+        mark(q);
+        const int f = h / 3;
+        if (ok && moves && f != dead0 && f != dead1)
+          ok = face_stays_fair(mesh_.position[v], c.target, mesh_.position[p], mesh_.position[q]);
+      });
+      return ok;
+    };
+    if (!walk(a, mark_by_a, true) || !walk(b, mark_by_b, c.target != mesh_.position[b])) return false;
     // A tetrahedron (closed, both valence 3) cannot lose a vertex and stay a surface.
     if (interior_edge && valence_a == 3 && valence_b == 3) return false;
     return !(options_.max_valence > 0 && valence_a + valence_b - 2 - common > options_.max_valence);
