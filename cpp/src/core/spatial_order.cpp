@@ -1,5 +1,4 @@
 #include <meshsmith/core/spatial_order.h>
-#include <meshsmith/core/large_vector.h>
 
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_sort.h>

@@ -206,12 +206,12 @@ HalfedgeMesh build_halfedge_mesh(LargeVector<Vec3> position, LargeVector<int> co
   if (any_several) {
     // In half-edge order, as a serial build would: each fan met first keeps the vertex, the
     // others get copies appended.
-    LargeVector<int> origin(n);
+    LargeVector<int> origin(n), fan;
     for (int v = 0; v < n; ++v) origin[v] = v;
     for (int start = 0; start < halfedges; ++start) {
       const int v = corner[start];
       if (!several_fans[v] || walked[start] == 2) continue;
-      LargeVector<int> fan;
+      fan.clear();
       const int first = fan_of(start, [&](int h) { fan.push_back(h); });
       int id = v;
       if (several_fans[v] == 2) {  // v already has a fan: this one gets a copy

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <vector>
 
 namespace meshsmith {
 
@@ -29,7 +28,7 @@ template <typename KeyOf>
 KeyBuckets bucket_by_key(int n, int keys, const KeyOf& key_of) {
   constexpr int kMinChunk = 1 << 16;
   const int chunks = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), n / kMinChunk));
-  const int chunk_size = chunks > 0 ? (n + chunks - 1) / chunks : 0;
+  const int chunk_size = (n + chunks - 1) / chunks;
   // offset[c·keys + k]: first the count of key k in chunk c, then where chunk c writes its next k.
   LargeVector<int> offset(static_cast<std::size_t>(chunks) * keys, 0);
   tbb::parallel_for(0, chunks, [&](int c) {

@@ -6,8 +6,6 @@
 #include <meshsmith/core/large_vector.h>
 #include <meshsmith/core/types.h>
 
-#include <vector>
-
 namespace meshsmith {
 
 /// The permutation that sorts the rows of P (n×3) by the Morton (Z-order) code of their cell in
