@@ -619,10 +619,10 @@ class Decimator {
 
 /// The queue of collapses: a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan 1990) on 64-bit keys
 /// (the cost's float bits, then the squared edge length's, so equal costs go to the shorter edge
-/// first), with lazy deletion. It relies on the costs being monotone — a collapse only adds to
-/// the quadrics, so the new costs around it are at least the popped one — and clamps the rare
-/// key below the last popped one (a re-tried rejected edge, round-off in the pseudo-inverse) up
-/// to it. Pushes and pops are appends and scans of short vectors, instead of a 4-ary heap's
+/// first), with lazy deletion. It relies on the costs being mostly monotone — a collapse only
+/// adds to the quadrics, so the new costs around it are at least the popped one; the rare key
+/// below the last settled one (a re-tried rejected edge, round-off in the pseudo-inverse) goes
+/// into bucket 0's heap and still comes out in order. Pushes and pops are appends and scans of short vectors, instead of a 4-ary heap's
 /// sifts through a queue of millions (the heap took a quarter of the time at 1.3M faces).
 /// `queued_cost` (per half-edge; +∞: not queued) holds each edge's current cost; an entry whose
 /// cost differs is stale and skipped. Queues that hold disjoint edges may share it.
@@ -772,11 +772,11 @@ void check_options(const QemOptions& options) {
 // ---------------------------------------------------------------------------------------------
 
 /// Full priority queue, updated eagerly: a collapse re-costs every edge around the kept vertex
-/// (the only ones whose quadric, position or boundary flag changed) and moves its key in place;
-/// the entries of the edges that die or are glued (renamed) leave before the collapse. Each edge
-/// has at most one entry, so no dead entries are popped. The top is still re-evaluated and goes
-/// back if its cost grew past the next key (costs that depend on the wider ring). An edge
-/// rejected by the checks leaves the queue until an edge at one of its ends collapses.
+/// (the only ones whose quadric, position or boundary flag changed) and queues it at its new
+/// cost (its old entry goes stale); the edges that die or are glued (renamed) leave the queue
+/// before the collapse. The top is re-evaluated (for its target) and goes back if its cost grew
+/// past its key. An edge rejected by the checks leaves the queue until an edge at one of its
+/// ends collapses.
 /// With `locked` (per working vertex; the parallel phase locks the vertices that have a
 /// neighbour in another part), edges with a locked end are never queued or collapsed. A run then
 /// edits only faces whose corners are all in its part and the data of its part's vertices; the
