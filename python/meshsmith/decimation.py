@@ -134,7 +134,7 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     parallel: on meshes of 100,000 faces or more (quadric cost, full queue), the first 95% of the
     collapses, down to no fewer than 20,000 faces, run on four spatial parts at once, in rounds
     under a common cost ceiling, and a serial greedy run does the part borders and the rest
-    (1.2–1.3× faster on 2 cores at 1.3M faces; the result does not depend on the thread
+    (1.3–1.4× faster on 2 cores at 1.3M faces; the result does not depend on the thread
     count). False: one serial greedy run, the strict cheapest-first order.
     Faces with a repeated index are dropped; non-manifold or inconsistently oriented vertices
     are split into one copy per fan first (nothing is torn further). Unreferenced vertices are
