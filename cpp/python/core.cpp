@@ -87,6 +87,9 @@ void bind_core(py::module_& m) {
   }, py::arg("value"), py::arg("name"), py::arg("minimum"), py::arg("maximum"),
   "value as an int in [minimum, maximum]; InputError naming `name` and the range otherwise.");
 
+  m.def("check_progress", [](const py::object& callback) { make_progress(callback); }, py::arg("callback"),
+        "InputError unless callback is None or callable (as every binding's progress argument).");
+
   m.def("version", &version);
   m.def("dependency_versions", &dependency_versions);
 }

@@ -34,8 +34,8 @@ void bind_decimation_progressive(py::module_& m) {
         return pm.vertex_count(level_argument(pm, level));
       }, py::arg("level"))
       .def("level_for_face_count", [](const ProgressiveMesh& pm, const py::object& n_faces) {
-        return pm.level_for_face_count(integer_argument<Eigen::Index>(n_faces, "n_faces", pm.face_count(0),
-                                                                      pm.face_count(pm.split_count())));
+        // The core names the range of levels; this checks that n_faces is an integer at all.
+        return pm.level_for_face_count(integer_argument<Eigen::Index>(n_faces, "n_faces"));
       }, py::arg("n_faces"))
       // The current level is mutable state: these two keep the GIL (they take milliseconds), so
       // Python threads sharing one ProgressiveMesh cannot race on it.

@@ -2,6 +2,7 @@
 #include "bindings.h"
 #include "convert.h"
 
+#include <meshsmith/core/validation.h>
 #include <meshsmith/parametrization/bijectivity.h>
 #include <meshsmith/parametrization/boundary_map.h>
 #include <meshsmith/parametrization/cut_to_disk.h>
@@ -59,7 +60,12 @@ BoundaryMap boundary_from_arguments(const MeshArguments& mesh, const py::object&
     return without_gil([&] { return map_boundary(mesh.V(), mesh.F(), shape); });
   }
   const std::vector<int> indices = as_indices(boundary, "boundary");
-  if (boundary_uv.is_none()) return without_gil([&] { return map_boundary_loop(mesh.V(), indices, shape); });
+  if (boundary_uv.is_none()) {
+    return without_gil([&] {
+      validate_mesh(mesh.V(), mesh.F());  // map_boundary_loop reads V only; (V, F) is the argument
+      return map_boundary_loop(mesh.V(), indices, shape);
+    });
+  }
   return BoundaryMap{indices, as_parameters(boundary_uv, "boundary_uv")};
 }
 

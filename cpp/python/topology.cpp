@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace meshsmith::python {
@@ -30,7 +31,7 @@ py::array_t<std::int64_t> int64_vector(const Container& values) {
 /// None → -1 ("max index + 1" in the core); otherwise a non-negative integer.
 Eigen::Index vertex_count_argument(const py::object& n_vertices) {
   if (n_vertices.is_none()) return -1;
-  return integer_argument<Eigen::Index>(n_vertices, "n_vertices", 0);
+  return integer_argument<Eigen::Index>(n_vertices, "n_vertices", 0, std::numeric_limits<int>::max());
 }
 
 }  // namespace

@@ -11,6 +11,8 @@ import numpy as np
 
 from ._core import core as _core
 
+__all__ = ["validate_mesh", "MeshDefects", "mesh_defects", "version", "dependency_versions"]
+
 
 def validate_mesh(V, F) -> None:
     """Raise :class:`meshsmith.InputError` unless (V, F) is a usable triangle mesh.

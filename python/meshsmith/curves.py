@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _arguments
 from ._core import InputError
 
 __all__ = ["arc_length", "arc_length_parametrization", "tangents", "normals", "curvature"]
@@ -39,22 +40,7 @@ CURVATURE_METHODS = ("turning_angle", "osculating_circle", "second_difference")
 # --- input handling ---------------------------------------------------------------------------
 
 def _as_curve(P, name="P") -> np.ndarray:
-    try:
-        array = np.asarray(P)
-    except Exception as error:  # ragged lists and the like
-        raise InputError(f"{name} is not an array of points: {error}") from None
-    if array.dtype == bool or not (np.issubdtype(array.dtype, np.integer)
-                                   or np.issubdtype(array.dtype, np.floating)):
-        raise InputError(f"{name} has dtype {array.dtype}: expected real numbers")
-    if array.ndim != 2 or array.shape[1] not in (2, 3):
-        raise InputError(f"{name} has shape {array.shape}: expected (n, 2) or (n, 3) points")
-    array = array.astype(np.float64, copy=False)
-    bad = np.argwhere(~np.isfinite(array))
-    if len(bad):
-        row, column = bad[0]
-        raise InputError(f"{name}[{row}, {column}] is {array[row, column]}: "
-                         "curve coordinates must be finite")
-    return array
+    return _arguments.finite(_arguments.real_array(P, name, (2, 3)), name)
 
 
 def _distinct(P: np.ndarray, closed: bool, minimum: int, what: str):
@@ -127,9 +113,7 @@ def arc_length_parametrization(P, n: int | None = None, closed: bool = False) ->
     """
     P = _as_curve(P)
     P, _ = _distinct(P, closed, 3 if closed else 2, "arc-length resampling")
-    n = len(P) if n is None else n
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < (3 if closed else 2):
-        raise InputError(f"n = {n!r} must be an integer >= {3 if closed else 2}")
+    n = len(P) if n is None else _arguments.integer(n, "n", 3 if closed else 2, _arguments.MAX_ELEMENTS)
     loop = np.vstack([P, P[:1]]) if closed else P
     s = arc_length(loop)
     total = s[-1]

@@ -12,9 +12,13 @@ import numbers
 
 import numpy as np
 
+from . import _arguments
+from ._arguments import MAX_ELEMENTS
 from ._core import InputError
 
-MAX_ELEMENTS = 2 ** 26
+# The finest icosphere within MAX_ELEMENTS faces (20 * 4**10 = 21M; 4**11 would be 84M): the
+# bound is on the exponent, checked before 4**subdivisions is computed.
+_ICOSPHERE_MAX_SUBDIVISIONS = 10
 
 __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
            "sphere_points"]
@@ -22,12 +26,12 @@ __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "c
 
 # --- parameter checks --------------------------------------------------------------------------
 
-def _integer(name: str, value, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise InputError(f"{name} must be an integer, got {value!r}")
-    if value < minimum:
-        raise InputError(f"{name} must be at least {minimum}, got {value}")
-    return int(value)
+def _integer(name: str, value, minimum: int, maximum: int = MAX_ELEMENTS) -> int:
+    return _arguments.integer(value, name, minimum, maximum)
+
+
+def _seed(value) -> int:
+    return _arguments.integer(value, "seed", 0, 2 ** 64 - 1)
 
 
 def _not_too_large(what: str, count: int) -> None:
@@ -66,11 +70,10 @@ def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[np.ndarray, n
 
     Returns 10·4^s + 2 vertices and 20·4^s faces (s = subdivisions: 3 → 1,280 faces,
     8 → 1,310,720), every vertex at distance ``radius`` from the origin.
-    Raises InputError if subdivisions < 0 or radius <= 0.
+    Raises InputError if subdivisions is not an integer in [0, 10] (10: 21M faces) or radius <= 0.
     """
-    subdivisions = _integer("subdivisions", subdivisions, 0)
+    subdivisions = _integer("subdivisions", subdivisions, 0, _ICOSPHERE_MAX_SUBDIVISIONS)
     radius = _positive("radius", radius)
-    _not_too_large("faces", 20 * 4 ** subdivisions)
     t = (1.0 + 5.0 ** 0.5) / 2.0
     V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0],
                   [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
@@ -290,7 +293,7 @@ def noisy(V, F, sigma: float = 0.01, seed: int = 0,
     sigma = _non_negative("sigma", sigma)
     if direction not in ("normal", "isotropic"):
         raise InputError(f"direction must be 'normal' or 'isotropic', got {direction!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     scale = sigma * _mean_edge_length(V, F)
     if direction == "isotropic":
         return V + rng.normal(scale=scale, size=V.shape), F.copy()
@@ -321,7 +324,7 @@ def sample_points(V, F, n: int, seed: int = 0, noise: float = 0.0) -> tuple[np.n
     total = areas.sum()
     if not total > 0:
         raise InputError("the mesh has zero area: no point can be sampled on it")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     faces = rng.choice(len(F), size=n, p=areas / total)
     r1, r2 = rng.random(n), rng.random(n)
     root = np.sqrt(r1)  # uniform in the triangle: (1 - √r1, √r1 (1 - r2), √r1 r2)
@@ -340,7 +343,7 @@ def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> tuple[np.ndarra
     n = _integer("n", n, 1)
     _not_too_large("points", n)
     radius = _positive("radius", radius)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     N = rng.normal(size=(n, 3))
     length = np.linalg.norm(N, axis=1, keepdims=True)
     while np.any(length == 0):  # probability zero, but never divide by it

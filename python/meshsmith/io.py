@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _arguments
 from ._core import InputError
 from ._core import io as _core
 
@@ -62,7 +63,7 @@ class Polygons:
     @classmethod
     def from_triangles(cls, F) -> "Polygons":
         """Polygons holding the rows of an (m, 3) triangle array."""
-        F = np.asarray(F)
+        F = _arguments.index_array(F, "F", 3)
         return cls(np.arange(0, 3 * len(F) + 1, 3, dtype=np.int64),
                    F.reshape(-1).astype(np.int64))
 
@@ -88,8 +89,8 @@ class Polygons:
 
         Raises InputError if the offsets are malformed or a polygon has fewer than 3 corners.
         """
-        return _core.triangulate_fan(np.asarray(self.offsets).reshape(-1, 1),
-                                     np.asarray(self.indices).reshape(-1, 1))
+        return _core.triangulate_fan(_corner_column(self.offsets, "offsets"),
+                                     _corner_column(self.indices, "indices"))
 
 
 @dataclass(frozen=True)
@@ -166,16 +167,15 @@ def read_mesh_with_attributes(path, *, triangulate: bool = True, format: str | N
 def _polygon_arrays(faces):
     """(flat indices (k, 1), offsets (m+1, 1) or None) for the binding."""
     if isinstance(faces, Polygons):
-        return (np.asarray(faces.indices).reshape(-1, 1),
-                np.asarray(faces.offsets).reshape(-1, 1))
+        return _corner_column(faces.indices, "faces.indices"), _corner_column(faces.offsets, "faces.offsets")
     return faces, None
 
 
-def _corner_column(indices):
-    """Per-corner indices of polygons (Polygons or a flat array) as a (k, 1) array."""
+def _corner_column(indices, name):
+    """Per-corner indices of polygons (Polygons or a flat (k,) array) as a (k, 1) array."""
     if isinstance(indices, Polygons):
         indices = indices.indices
-    return np.asarray(indices).reshape(-1, 1)
+    return _arguments.index_array(indices, name).reshape(-1, 1)
 
 
 def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = None,
@@ -199,8 +199,8 @@ def write_mesh(path, V, F, *, format: str | None = None, binary: bool | None = N
         binary = _BINARY_BY_DEFAULT.get(fmt, False)
     faces, offsets = _polygon_arrays(F)
     if offsets is not None:
-        F_uv = _corner_column(F_uv) if F_uv is not None else None
-        F_normal = _corner_column(F_normal) if F_normal is not None else None
+        F_uv = _corner_column(F_uv, "F_uv") if F_uv is not None else None
+        F_normal = _corner_column(F_normal, "F_normal") if F_normal is not None else None
     _core.write_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv, N, F_normal, _format(format),
                      bool(binary), bool(big_endian))
 

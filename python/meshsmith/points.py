@@ -29,7 +29,7 @@ class KdTree:
     """
 
     def __init__(self, P, leaf_size: int = 10):
-        self._tree = _core.KdTree(P, int(leaf_size))
+        self._tree = _core.KdTree(P, leaf_size)
 
     def __len__(self) -> int:
         return len(self._tree)
@@ -48,7 +48,7 @@ class KdTree:
         Returns (indices, distances): (m, k) int64 and (m, k) float64, nearest first.
         Raises InputError if k < 1, k > n (Q given) or k >= n (Q None), or Q holds NaN/Inf.
         """
-        return self._tree.query(int(k), Q, progress)
+        return self._tree.query(k, Q, progress)
 
     def query_radius(self, Q, radius: float, *, progress=None):
         """All tree points at distance < radius (strictly) of each query point, nearest first.
@@ -62,7 +62,7 @@ class KdTree:
     def estimate_normals(self, k: int = 16, radius: float | None = None, *,
                          return_variation: bool = False, progress=None):
         """:func:`estimate_normals` on the tree's points, reusing the tree."""
-        normals, variation = self._tree.estimate_normals(int(k), _radius(radius), progress)
+        normals, variation = self._tree.estimate_normals(k, _radius(radius), progress)
         return (normals, variation) if return_variation else normals
 
 
@@ -76,7 +76,7 @@ def knn(P, k: int, Q=None, *, progress=None):
     distances, nearest first. Ties at equal distance come in an unspecified order.
     Raises InputError if k < 1, k is too large for n, or P/Q are empty or hold NaN/Inf.
     """
-    return _core.knn(P, int(k), Q, progress)
+    return _core.knn(P, k, Q, progress)
 
 
 def _radius(radius) -> float:
@@ -104,7 +104,7 @@ def estimate_normals(P, k: int = 16, radius: float | None = None, *,
     fallback normal (0, 0, 1) and variation 1/3; no normal is ever NaN.
     Raises InputError if k < 3, n <= k (kNN) or n < 3 (radius), radius <= 0, or NaN/Inf.
     """
-    normals, variation = _core.estimate_normals(P, int(k), _radius(radius), progress)
+    normals, variation = _core.estimate_normals(P, k, _radius(radius), progress)
     return (normals, variation) if return_variation else normals
 
 
@@ -123,4 +123,4 @@ def orient_normals(P, N, k: int = 16, *, alpha: float = 0.1, beta: float = 0.9, 
     Returns an (n, 3) copy of N with some rows negated. Raises InputError if shapes differ,
     a normal is zero, k < 1 or k >= n, axis is not 0/1/2, alpha/beta < 0 or both 0, or NaN/Inf.
     """
-    return _core.orient_normals(P, N, int(k), float(alpha), float(beta), int(axis), progress)
+    return _core.orient_normals(P, N, k, float(alpha), float(beta), axis, progress)

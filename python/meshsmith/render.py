@@ -26,8 +26,12 @@ from typing import Sequence
 
 import numpy as np
 
+from . import _arguments
 from ._core import InputError
 from ._core import render as _core
+
+__all__ = ["VIEWS", "COLORMAPS", "Camera", "view_angles", "frame_camera", "colormap", "scalar_range", "render",
+           "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
 
 #: Named views as (azimuth, elevation) in degrees.
 VIEWS: dict[str, tuple[float, float]] = {
@@ -110,7 +114,7 @@ def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
 
 def colormap(name: str, steps: int = 256) -> np.ndarray:
     """(steps, 3) float array: sRGB colours in [0, 1] of colormap `name` (viridis, magma, coolwarm)."""
-    return _core.colormap_table(name, int(steps))
+    return _core.colormap_table(name, steps)
 
 
 def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
@@ -125,7 +129,7 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
 
 def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
     diverging = _core.colormap_is_diverging(cmap)
-    return tuple(_core.scalar_range(scalar, int(vertex_count), diverging))
+    return tuple(_core.scalar_range(scalar, vertex_count, diverging))
 
 
 def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
@@ -191,8 +195,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
         raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
-    if not isinstance(supersample, (int, np.integer)) or isinstance(supersample, bool):
-        raise InputError(f"supersample must be an integer from 1 to 4, got {supersample!r}")
+    supersample = _arguments.integer(supersample, "supersample", 1, 4)
     gradient, transparent = _background(background)
     n_vertices, n_faces = _validated_counts(V, F)
 
@@ -210,9 +213,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     count = len(view_list)
     if columns is None:
         columns = count if count <= 3 else math.ceil(math.sqrt(count))
-    if not isinstance(columns, (int, np.integer)) or columns < 1:
-        raise InputError(f"columns must be a positive integer, got {columns!r}")
-    columns = min(int(columns), count)
+    columns = min(_arguments.integer(columns, "columns", 1, _core.max_image_side), count)
     rows = math.ceil(count / columns)
     total_width, total_height = columns * width, rows * height
 
@@ -230,7 +231,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     if wireframe == "auto":
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
-        width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
+        width=0, height=0, supersample=supersample, smooth_shading=not flat,
         crease_angle_deg=float(crease_angle),
         lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
@@ -305,30 +306,33 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     """
     Image, ImageDraw, _ = _pillow()
     width, height = _check_size(size)
-    scale_factor = int(supersample)
-    if scale_factor < 1:
-        raise InputError(f"supersample = {supersample}: expected an integer >= 1")
+    scale_factor = _arguments.integer(supersample, "supersample", 1, 4)
 
-    def planar(array, name, columns=2):
-        array = np.asarray(array, dtype=float)
-        if array.ndim != 2 or array.shape[1] != columns:
-            raise InputError(f"{name} has shape {array.shape}: expected (n, {columns})")
-        if not np.isfinite(array).all():
-            raise InputError(f"{name} holds NaN or Inf")
-        return array
+    def planar(array, name):
+        return _arguments.finite(_arguments.real_array(array, name, 2), name)
+
+    def pair(value, name):
+        try:
+            first, second = value
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be a pair (points, indices), got {type(value).__name__}") from None
+        return first, second
 
     layers = []
     if triangles is not None:
-        TV, TF = planar(triangles[0], "triangles vertices"), np.asarray(triangles[1], dtype=np.int64)
-        if TF.ndim != 2 or TF.shape[1] != 3 or (TF.size and (TF.min() < 0 or TF.max() >= len(TV))):
+        TV, TF = pair(triangles, "triangles")
+        TV, TF = planar(TV, "triangles vertices"), _arguments.index_array(TF, "triangles faces", 3)
+        if TF.size and (TF.min() < 0 or TF.max() >= len(TV)):
             raise InputError("triangles faces must be (m, 3) indices into the triangle vertices")
         layers.append(TV)
     if segments is not None:
-        SP, SE = planar(segments[0], "segment points"), np.asarray(segments[1], dtype=np.int64)
-        if SE.ndim != 2 or SE.shape[1] != 2 or (SE.size and (SE.min() < 0 or SE.max() >= len(SP))):
+        SP, SE = pair(segments, "segments")
+        SP, SE = planar(SP, "segment points"), _arguments.index_array(SE, "segments edges", 2)
+        if SE.size and (SE.min() < 0 or SE.max() >= len(SP)):
             raise InputError("segments edges must be (e, 2) indices into the segment points")
         layers.append(SP[np.unique(SE)] if SE.size else SP[:0])
-    cells = [planar(cell, f"polygons[{i}]") for i, cell in enumerate(polygons or []) if len(cell)]
+    cells = [planar(cell, f"polygons[{i}]") for i, cell in enumerate([] if polygons is None else polygons)
+             if not (isinstance(cell, (list, tuple, np.ndarray)) and len(cell) == 0)]  # empty cells: nothing
     layers.extend(cells)
     if points is not None:
         points = planar(points, "points")
@@ -405,12 +409,10 @@ def parametrization_picture(path, result, title: str) -> None:
 def _check_size(size) -> tuple[int, int]:
     try:
         width, height = size
-        valid = all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
     except (TypeError, ValueError):
-        valid = False
-    if not valid or width <= 0 or height <= 0:
-        raise InputError(f"size must be (width, height) with positive integers, got {size!r}")
-    return int(width), int(height)
+        raise InputError(f"size must be (width, height) with positive integers, got {size!r}") from None
+    return (_arguments.integer(width, "size[0] (width)", 1, _core.max_image_side),
+            _arguments.integer(height, "size[1] (height)", 1, _core.max_image_side))
 
 
 def _check_range(value) -> tuple[float, float]:
@@ -604,7 +606,12 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
 def save_png(canvas: np.ndarray, path) -> None:
     """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
 
-    Raises InputError when the folder does not exist."""
+    Raises InputError for a canvas that is not such an array, or when the folder does not exist."""
+    if not (isinstance(canvas, np.ndarray) and canvas.dtype == np.uint8 and canvas.ndim == 3
+            and canvas.shape[2] in (3, 4) and canvas.size):
+        shape = getattr(canvas, "shape", None)
+        raise InputError(f"canvas must be a non-empty (height, width, 3 or 4) uint8 array (a picture from render), "
+                         f"got {type(canvas).__name__}" + (f" {canvas.dtype} {shape}" if shape is not None else ""))
     Image, _, _ = _pillow()
     path = Path(path)
     if path.parent and not path.parent.exists():

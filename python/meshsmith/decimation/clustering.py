@@ -57,9 +57,7 @@ def cluster(V, F, *, cell_size: float | None = None, target_vertices: int | None
     if (cell_size is None) == (target_vertices is None):
         raise InputError("cluster: give exactly one of cell_size and target_vertices")
     if target_vertices is not None:
-        if isinstance(target_vertices, bool) or not isinstance(target_vertices, (int, np.integer)):
-            raise InputError(f"cluster: target_vertices must be an integer, got {target_vertices!r}")
-        cell_size = _core.cell_size_for_vertex_count(V, F, int(target_vertices))
+        cell_size = _core.cell_size_for_vertex_count(V, F, target_vertices)  # the binding checks the integer
     V_out, F_out, vertex_cluster, is_manifold, size = _core.cluster_vertices(
         V, F, float(cell_size), representative, progress)
     return ClusteredMesh(V_out, F_out, vertex_cluster.reshape(-1), bool(is_manifold), float(size))

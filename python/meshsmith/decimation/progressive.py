@@ -6,6 +6,7 @@ import os
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import decimation as _core
 from .qem import decimate
@@ -66,28 +67,21 @@ class ProgressiveMesh:
 
     def face_count(self, level: int) -> int:
         """Faces at ``level`` (each split adds two faces, one on the boundary)."""
-        self._check_level(level)
-        return self._pm.face_count(level)
-
-    def _check_level(self, level) -> int:
-        if isinstance(level, bool) or not isinstance(level, (int, np.integer)) \
-                or not 0 <= level <= self.n_splits:
-            raise InputError(f"progressive mesh: level must be an integer in [0, {self.n_splits}], got {level!r}")
-        return int(level)
+        return self._pm.face_count(level)  # the binding checks level (an integer in [0, n_splits])
 
     def set_level(self, level: int) -> None:
         """Move the current level to ``level`` by applying or undoing the vertex splits in
         between. Raises InputError if level is outside [0, n_splits]."""
-        self._pm.set_level(self._check_level(level))
+        self._pm.set_level(level)
 
     def refine(self, steps: int = 1) -> int:
         """Apply the next ``steps`` vertex splits (fewer at the full level); returns the level."""
-        self._pm.set_level(min(self.n_splits, self.level + max(0, int(steps))))
+        self._pm.set_level(min(self.n_splits, self.level + _arguments.integer(steps, "steps", 0, 2 ** 63 - 1)))
         return self.level
 
     def coarsen(self, steps: int = 1) -> int:
         """Undo the last ``steps`` vertex splits (fewer at the base level); returns the level."""
-        self._pm.set_level(max(0, self.level - max(0, int(steps))))
+        self._pm.set_level(max(0, self.level - _arguments.integer(steps, "steps", 0, 2 ** 63 - 1)))
         return self.level
 
     def mesh(self) -> tuple[np.ndarray, np.ndarray]:
@@ -98,9 +92,7 @@ class ProgressiveMesh:
         """The finest level with at most ``n_faces`` faces.
 
         Raises InputError if n_faces is not an integer inside :attr:`face_range`."""
-        if isinstance(n_faces, bool) or not isinstance(n_faces, (int, np.integer)):
-            raise InputError(f"progressive mesh: n_faces must be an integer, got {n_faces!r}")
-        return self._pm.level_for_face_count(int(n_faces))
+        return self._pm.level_for_face_count(n_faces)  # the binding checks the integer and the range
 
     def at(self, n_faces: int) -> tuple[np.ndarray, np.ndarray]:
         """Move to the finest level with at most ``n_faces`` faces and return its (V, F).
@@ -135,17 +127,17 @@ class ProgressiveMesh:
             raise InputError("refine_where: give exactly one of predicate, near with radius, or box")
         P = self._pm.full_positions
         if predicate is not None:
-            selected = np.asarray(predicate(P))
-            if selected.shape != (len(P),) or selected.dtype != bool:
+            selected = _arguments.flag_array(predicate(P), "the predicate's result")
+            if len(selected) != len(P):
                 raise InputError(f"refine_where: the predicate must return a ({len(P)},) bool array, "
-                                 f"got {selected.dtype} {selected.shape}")
+                                 f"got shape {selected.shape}")
         elif near is not None:
-            point = np.asarray(near, dtype=float)
-            if point.shape != (3,) or not np.isfinite(point).all() or not radius >= 0:
+            point = _arguments.finite(_arguments.real_array(near, "near"), "near")
+            if point.shape != (3,) or not radius >= 0:
                 raise InputError("refine_where: near must be a finite 3D point and radius >= 0")
             selected = np.linalg.norm(P - point, axis=1) <= radius
         else:
-            bounds = np.asarray(box, dtype=float)
+            bounds = _arguments.real_array(box, "box", 3)
             if bounds.shape != (2, 3) or np.isnan(bounds).any():
                 raise InputError("refine_where: box must be ((xmin, ymin, zmin), (xmax, ymax, zmax))")
             selected = np.all((P >= bounds[0]) & (P <= bounds[1]), axis=1)

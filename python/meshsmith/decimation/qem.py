@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import decimation as _core
 
@@ -81,17 +82,15 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     if ratio is not None:
         if not 0 < ratio <= 1:
             raise InputError(f"decimate: ratio must be in (0, 1], got {ratio}")
-        target = max(1, int(round(ratio * len(np.asarray(F)))))
+        target = max(1, int(round(ratio * len(_arguments.index_array(F, "F", 3)))))
     elif target_faces is not None:
-        if int(target_faces) != target_faces or target_faces < 1:
-            raise InputError(f"decimate: target_faces must be an integer >= 1, got {target_faces}")
-        target = int(target_faces)
+        target = _arguments.integer(target_faces, "target_faces", 1, 2 ** 63 - 1)
     if max_error is not None and not max_error > 0:
         raise InputError(f"decimate: max_error must be > 0, got {max_error}")
     if target == 0 and max_error is None:
         raise InputError("decimate: no stop rule: give target_faces, ratio or max_error")
-    if candidates is not None and candidates < 1:
-        raise InputError(f"decimate: candidates must be >= 1 (None: full priority queue), got {candidates}")
+    if candidates is not None:  # the binding bounds it from above
+        candidates = _arguments.integer(candidates, "candidates (None: the full priority queue)", 1, 2 ** 31 - 1)
     V2, F2, report = _core.decimate_qem(
         V, F, target_faces=target, max_error=max_error or 0.0, operator=operator, cost=cost,
         candidates=candidates or 0, seed=seed, prevent_normal_flips=prevent_normal_flips,

@@ -72,16 +72,11 @@ def uniform_laplacian(first, second=None, *, normalized: bool = False) -> scipy.
 
     Raises InputError for an empty F, n < 1, an index of F outside ``[0, n)``, or bad V.
     """
-    if second is not None and np.ndim(second) == 2:  # (V, F)
-        V, F = first, second
-        _core_checks.validate_mesh(V, F)
-        n = len(V)
-    else:
-        F, n = first, second
-        if n is None:
-            faces = np.asarray(F)
-            n = int(faces.max()) + 1 if faces.size and np.issubdtype(faces.dtype, np.integer) else 1
-    return _csc(_geometry.uniform_laplacian(F, int(n), bool(normalized)))
+    if second is None or np.isscalar(second) or (isinstance(second, np.ndarray) and second.ndim == 0):
+        return _csc(_geometry.uniform_laplacian(first, second, bool(normalized)))  # (F, n): the core checks n
+    V, F = first, second
+    _core_checks.validate_mesh(V, F)
+    return _csc(_geometry.uniform_laplacian(F, len(V), bool(normalized)))
 
 
 def mean_value_laplacian(V, F) -> scipy.sparse.csc_matrix:
@@ -219,4 +214,4 @@ def laplacian_eigenpairs(V, F, k: int, *, mass: str = "voronoi", progress=None
     positive definite: remove unreferenced vertices first); SolverError if the factorisation
     or the iteration fails.
     """
-    return _geometry.laplacian_eigenpairs(V, F, int(k), mass, progress)
+    return _geometry.laplacian_eigenpairs(V, F, k, mass, progress)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._core import InputError
+from .. import _arguments
 from .._core import geometry as _geometry
 
 __all__ = ["TriangleDistortion", "triangle_distortion", "SurfaceDistance", "hausdorff_distance", "mean_surface_distance"]
@@ -40,7 +40,8 @@ class TriangleDistortion:
       normalized_global_stretch_l2: global_stretch_l2 * sqrt(sum |UV area| / sum A), invariant
         to a uniform scale of UV (1 for an isometry up to scale).
       global_stretch_linf: max s1.
-      (The three global values are NaN only when no face has positive 3D area.)
+      (The three global values are NaN only when no face has positive 3D area;
+      normalized_global_stretch_l2 is +inf when every UV triangle has zero area.)
     Index lists (int64, ascending): flipped_faces; degenerate_parameter_faces (UV area exactly 0
     with positive 3D area: J, sigma and every measure are +inf there, and so are the averages
     touching them); degenerate_surface_faces (3D area 0: sigma2 = 0, conformal and isometric
@@ -127,10 +128,7 @@ class SurfaceDistance:
 def _sampling(sampled: bool, samples_per_face: int) -> int:
     if not sampled:
         return 0
-    if isinstance(samples_per_face, bool) or not isinstance(samples_per_face, (int, np.integer)) \
-            or samples_per_face < 1:
-        raise InputError(f"samples_per_face must be an integer >= 1, got {samples_per_face!r}")
-    return int(samples_per_face)
+    return _arguments.integer(samples_per_face, "samples_per_face", 1, 2 ** 31 - 1)  # the core bounds m * it
 
 
 def hausdorff_distance(VA, FA, VB, FB, *, sampled: bool = False, samples_per_face: int = 16,
@@ -145,7 +143,8 @@ def hausdorff_distance(VA, FA, VB, FB, *, sampled: bool = False, samples_per_fac
       ``hausdorff`` computes (a lower bound of the true Hausdorff distance).
     - ``sampled=True``: the vertices plus ``samples_per_face`` points per face, uniform in each
       triangle from a hash of (seed, face, sample): a tighter (larger) lower bound that tends to
-      the true Hausdorff distance as samples_per_face grows. Deterministic for a given seed.
+      the true Hausdorff distance as samples_per_face grows. Deterministic for a given seed
+      (an integer in [0, 2^64)).
       m * samples_per_face may be at most 2^27 per mesh (a bound on memory).
 
     VA, VB: (n, 3) float arrays; FA, FB: (m, 3) integer arrays.
@@ -154,8 +153,7 @@ def hausdorff_distance(VA, FA, VB, FB, *, sampled: bool = False, samples_per_fac
     VB or FB for a wrong shape or dtype, "mesh A" or "mesh B" for bad values) or
     samples_per_face < 1 with sampled=True.
     """
-    result = _geometry.hausdorff_distance(VA, FA, VB, FB, _sampling(sampled, samples_per_face),
-                                          int(seed) % 2**64, progress)
+    result = _geometry.hausdorff_distance(VA, FA, VB, FB, _sampling(sampled, samples_per_face), seed, progress)
     return tuple(float(x) for x in result) if one_sided else float(result[0])
 
 
@@ -176,6 +174,6 @@ def mean_surface_distance(VA, FA, VB, FB, *, sampled: bool = False, samples_per_
     ``(symmetric, a_to_b, b_to_a)``. Raises InputError as :func:`hausdorff_distance`, and when a
     surface has zero total area.
     """
-    result = _geometry.mean_surface_distance(VA, FA, VB, FB, _sampling(sampled, samples_per_face),
-                                             int(seed) % 2**64, progress)
+    result = _geometry.mean_surface_distance(VA, FA, VB, FB, _sampling(sampled, samples_per_face), seed,
+                                             progress)
     return tuple(float(x) for x in result) if one_sided else float(result[0])

@@ -65,7 +65,7 @@ def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: flo
     options; SolverError
     if the residual is still above tolerance after max_iterations (the message gives it).
     """
-    result = _core.abf(V, F, method, int(max_iterations), float(tolerance), float(minimum_angle), progress)
+    result = _core.abf(V, F, method, max_iterations, float(tolerance), float(minimum_angle), progress)
     return AbfResult(**result)
 
 
@@ -83,5 +83,4 @@ def uv_from_angles(F, angles, *, n_vertices: int | None = None, pinned=None, pin
     Returns (n_vertices, 2) float UV. Raises InputError for bad shapes, an angle outside
     (0, pi), bad pins or an unused vertex; SolverError if the faces are not edge-connected.
     """
-    pinned = None if pinned is None else np.reshape(np.asarray(pinned), (1, -1))
-    return _core.uv_from_angles(F, angles, -1 if n_vertices is None else int(n_vertices), pinned, pinned_uv)
+    return _core.uv_from_angles(F, angles, n_vertices, pinned, pinned_uv)

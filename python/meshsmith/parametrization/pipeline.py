@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import geometry, topology
+from .. import _arguments, geometry, topology
 from .._core import InputError
 from .angle_based import abf
 from .bijectivity import is_bijective
@@ -69,10 +69,12 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
 
     A mesh that is not a topological disk (closed, higher genus, several holes) is first cut
     with :func:`cut_to_disk`. "abf" / "abf++" use :func:`abf`.
-    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback (stretch only).
+    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback (fraction, stage)
+    -> bool, called by the stretch and ABF methods.
     Returns a :class:`Parametrization`. Raises InputError for an unknown method or bad input
     (see :func:`cut_to_disk`).
     """
+    _arguments.progress(progress)
     if method not in PARAMETRIZATION_METHODS:
         raise InputError(f"unknown parametrization method {method!r}: expected one of "
                          + ", ".join(PARAMETRIZATION_METHODS))
@@ -90,6 +92,7 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
     elif method == "lscm":
         uv = lscm(V, F)
     else:
-        uv = abf(V, F, method=method).uv
-    return Parametrization(np.asarray(V), np.asarray(F), uv, cut, method,
+        uv = abf(V, F, method=method, progress=progress).uv
+    V, F = _arguments.real_array(V, "V", 3), _arguments.index_array(F, "F", 3).astype(np.int64)  # validated above
+    return Parametrization(V, F, uv, cut, method,
                            geometry.triangle_distortion(V, F, uv), is_bijective(uv, F))

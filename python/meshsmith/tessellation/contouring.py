@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import tessellation as _core
 from .delaunay import default_bounds
@@ -51,15 +52,9 @@ def power_diagram(P, weights, bounds=None) -> PowerDiagram:
     Returns a PowerDiagram. Raises InputError for empty or non-finite input, a wrong number of
     weights, or an empty box.
     """
-    P_checked = np.asarray(P) if P is not None else P
-    if bounds is None:
-        if not isinstance(P_checked, np.ndarray) or P_checked.ndim != 2 or P_checked.shape[0] == 0 \
-                or P_checked.shape[1] not in (2, 3) or not np.all(np.isfinite(P_checked)):
-            bounds = np.zeros(4)  # let the core report what is wrong with P
-        else:
-            bounds = default_bounds(P_checked.astype(float))
+    bounds = default_bounds(P) if bounds is None else _arguments.real_array(bounds, "bounds")
     triangulation, cells, hidden = _core.power_diagram(P, weights, bounds)
-    return PowerDiagram(triangulation, cells, hidden, np.asarray(bounds, dtype=float))
+    return PowerDiagram(triangulation, cells, hidden, bounds)
 
 
 def crust(samples) -> np.ndarray:
@@ -153,4 +148,4 @@ def crust_3d(points, *, cocone_angle: float = np.pi / 8,
     0.35 from 225 (about 2 samples per square minor radius); the result then keeps every point.
     Raises InputError if a precondition fails; Cancelled if progress returns False.
     """
-    return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges), progress)
+    return _core.crust_3d(points, float(cocone_angle), max_hole_edges, progress)

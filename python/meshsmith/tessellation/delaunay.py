@@ -6,6 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import tessellation as _core
 
@@ -16,7 +17,11 @@ def default_bounds(P: np.ndarray) -> np.ndarray:
     """The box cells are clipped to when no bounds are given: the bounding box of the (n, 2) or
     (n, 3) points P enlarged by 10% of its size on each side (an axis of zero extent gets 10% of
     the largest extent, or 0.1). Returned as (xmin, ymin, xmax, ymax[, zmin, zmax]).
+    Raises InputError for P that is empty, not (n, 2) or (n, 3) real numbers, or not finite.
     """
+    P = _arguments.finite(_arguments.real_array(P, "P", (2, 3)), "P")
+    if len(P) == 0:
+        raise InputError("P is empty: expected at least one point")
     lower, upper = P.min(axis=0), P.max(axis=0)
     margin = 0.1 * (upper - lower)
     margin[margin == 0] = max(float(np.max(upper - lower)), 1.0) * 0.1
@@ -88,15 +93,11 @@ def voronoi(P, bounds=None) -> VoronoiDiagram:
     Raises InputError as delaunay(), or for an empty or non-finite box.
     """
     if bounds is None:
-        points = np.asarray(P, dtype=float)
-        if points.ndim == 2 and points.shape[1] == 2 and len(points) and np.isfinite(points).all():
-            bounds = default_bounds(points)
-        else:
-            bounds = (0.0, 0.0, 1.0, 1.0)  # the core rejects P with a precise message
-    bounds = tuple(float(b) for b in bounds)
+        bounds = default_bounds(_arguments.real_array(P, "P", 2))
+    bounds = _arguments.real_array(bounds, "bounds")
     if len(bounds) != 4:
         raise InputError("bounds: expected (xmin, ymin, xmax, ymax)")
-    return VoronoiDiagram(*_core.voronoi(P, bounds))
+    return VoronoiDiagram(*_core.voronoi(P, tuple(bounds.tolist())))
 
 
 def flip_to_delaunay(V, F):
@@ -135,8 +136,8 @@ def refine(P, segments, holes=None, min_angle: float = 20.7, max_area: float | N
     area = 0.0 if max_area is None else float(max_area)
     if max_area is not None and not area > 0:
         raise InputError(f"max_area: must be > 0 or None, got {max_area}")
-    return _core.refine(P, _segments(segments), _seeds(holes), float(min_angle), area,
-                        int(max_steiner_points), progress)
+    return _core.refine(P, _segments(segments), _seeds(holes), float(min_angle), area, max_steiner_points,
+                        progress)
 
 
 def triangle_angles(V, F) -> np.ndarray:
@@ -146,12 +147,8 @@ def triangle_angles(V, F) -> np.ndarray:
     tiny and obtuse angles alike). The quality measure of Delaunay refinement (§2.1.1).
     Raises InputError for shapes other than (n, 2) and (m, 3) or out-of-range indices.
     """
-    V = np.asarray(V, dtype=float)
-    F = np.asarray(F)
-    if V.ndim != 2 or V.shape[1] != 2:
-        raise InputError(f"V has shape {V.shape}: expected (n, 2)")
-    if F.ndim != 2 or F.shape[1] != 3 or F.dtype.kind not in "iu":
-        raise InputError(f"F has shape {F.shape} and dtype {F.dtype}: expected (m, 3) integers")
+    V = _arguments.finite(_arguments.real_array(V, "V", 2), "V")
+    F = _arguments.index_array(F, "F", 3)
     if F.size and (F.min() < 0 or F.max() >= len(V)):
         raise InputError(f"F indexes a vertex outside [0, {len(V)})")
     corners = V[F]
