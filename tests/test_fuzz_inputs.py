@@ -130,14 +130,14 @@ VALID = {
     "points.KdTree.query_radius": {"owner": ("points.KdTree", (POINTS,)), "radius": 0.5},
     "points.KdTree.estimate_normals": {"owner": ("points.KdTree", (POINTS,)), "k": 5},
     "points.knn": {"k": 3},
-    "points.estimate_normals": {"k": 5},
+    "points.estimate_normals": {"k": 5, "radius": 0.6},
     "points.orient_normals": {"k": 5, "axis": 2},
     "render.view_angles": None,            # no array, integer or callback argument
     "render.frame_camera": {"size": (64, 48)},
     "render.colormap": {"name": "viridis", "steps": 16},
     "render.scalar_range": {"scalar": SPHERE_V[:, 0].copy(), "vertex_count": 42},
     "render.render": {"size": (40, 30), "scalar": SPHERE_V[:, 2].copy(), "uv": SPHERE_V[:, :2].copy(),
-                      "supersample": 1, "columns": 1},
+                      "supersample": 1, "columns": 1, "checker_size": 0.2},
     "render.render_uv_layout": {"UV": DISK_UV, "F": DISK_F, "size": (40, 40), "scalar": DISK_V[:, 0].copy(),
                                 "supersample": 1},
     "render.plot_planar": {"points": PLANAR, "triangles": (GRID_V, GRID_F), "segments": (SQUARE, SQUARE_SEGMENTS),
@@ -151,7 +151,8 @@ VALID = {
     "tessellation.is_r_sample": {"R": 0.5},
     "tessellation.crust_3d": {"max_hole_edges": 8},
     "decimation.cluster": {"target_vertices": 20},
-    "decimation.decimate": {"target_faces": 40, "candidates": 4, "max_valence": 9, "seed": 1},
+    "decimation.decimate": {"target_faces": 40, "candidates": 4, "max_valence": 9, "seed": 1,
+                            "max_normal_deviation": 90.0, "min_quality": 0.01},
     "decimation.progressive_mesh": {},
     "decimation.ProgressiveMesh": None,     # built by progressive_mesh (its methods are fuzzed below)
     "decimation.ProgressiveMesh.load": None,  # a path only
@@ -253,6 +254,8 @@ def valid_call(target: str, function, folder_files) -> tuple[dict, tuple | None]
             kwargs[name] = VALID_BY_NAME[f"{chapter}.{name}"]
         elif name in VALID_BY_NAME:
             kwargs[name] = VALID_BY_NAME[name]
+        elif isinstance(parameter.default, (int, float)) and not isinstance(parameter.default, bool):
+            kwargs[name] = parameter.default  # a numeric option: fuzzed from its default
         elif parameter.default is inspect.Parameter.empty:
             raise LookupError(f"{target}: no valid value known for its parameter {name!r}: "
                               "add it to VALID in tests/test_fuzz_inputs.py")
