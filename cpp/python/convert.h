@@ -33,18 +33,20 @@ enum class Elements { real, index, flag };
 /// THE conversion of an array argument: any array-like (an ndarray of any layout, read-only or
 /// not, a list or tuple of numbers, an object with __array__) → numpy array, without copying
 /// when it is one already. Every array argument of every binding goes through it, and so do the
-/// Python modules' own checks (meshsmith._arrays calls it through meshsmith._core.core).
-/// 	hrow InputError naming `name` for None, for anything numpy cannot turn into an array
-///        (ragged nesting: "V is not an array of numbers: setting an array element with a
-///        sequence ..."), and for a dtype that is not `elements` (objects, strings, complex,
-///        bool, datetime, structured; floats for indices).
+/// Python modules' own checks (meshsmith._arguments calls it through meshsmith._core.core).
+/// \throw InputError naming `name` for None, for anything numpy cannot turn into an array
+///        (ragged nesting: "V is not an array of numbers (list that numpy cannot convert:
+///        setting an array element with a sequence ...)"), and for a dtype that is not
+///        `elements` (objects, strings, complex, bool, datetime, structured; floats for
+///        indices). What an object's own __array__ raises (other than ValueError, TypeError or
+///        OverflowError) and MemoryError propagate as themselves.
 py::array as_numeric_array(const py::handle& object, const char* name, Elements elements);
 
 /// "(3, 2)", "(4,)": the shape of an array as numpy prints it, for messages.
 std::string shape_of(const py::array& array);
 
 /// Any array-like of real numbers with shape (n, columns) → C-contiguous float64 array.
-/// 	hrow InputError naming `name` as as_numeric_array, or for a wrong shape.
+/// \throw InputError naming `name` as as_numeric_array, or for a wrong shape.
 RealArray as_real_matrix(const py::handle& object, const char* name, Eigen::Index columns);
 
 /// The same, for an (n, 2) or (n, 3) array: columns_a or columns_b columns.
@@ -52,7 +54,7 @@ RealArray as_real_matrix(const py::handle& object, const char* name, Eigen::Inde
                          Eigen::Index columns_b);
 
 /// Any 1-D array-like of real numbers, shape (n,) → C-contiguous float64 array.
-/// 	hrow InputError naming `name` as as_numeric_array, or for a shape other than (n,).
+/// \throw InputError naming `name` as as_numeric_array, or for a shape other than (n,).
 RealArray as_real_vector(const py::handle& object, const char* name);
 
 /// Any array-like of integers with shape (n, columns) → C-contiguous int32 array. Booleans and
@@ -77,7 +79,7 @@ py::int_ checked_integer(const py::handle& value, const char* name, const py::in
 /// a float: 3.0 and NaN are rejected as `range` rejects them) in [minimum, maximum], checked
 /// before any allocation depends on it. Bindings take integer options as py::object and convert
 /// them here, so 2**40, 2**70 or NaN give one clear message instead of pybind11's TypeError.
-/// 	hrow InputError "<name> = <value>: expected an integer in [minimum, maximum]".
+/// \throw InputError "<name> = <value>: expected an integer in [minimum, maximum]".
 template <typename Int>
 Int integer_argument(const py::handle& value, const char* name,
                      Int minimum = std::numeric_limits<Int>::lowest(),

@@ -54,7 +54,7 @@ def power_diagram(P, weights, bounds=None) -> PowerDiagram:
     """
     bounds = default_bounds(P) if bounds is None else _arguments.real_array(bounds, "bounds")
     triangulation, cells, hidden = _core.power_diagram(P, weights, bounds)
-    return PowerDiagram(triangulation, cells, hidden, bounds)
+    return PowerDiagram(triangulation, cells, hidden, np.array(bounds))  # a copy: never the caller's array
 
 
 def crust(samples) -> np.ndarray:
