@@ -431,3 +431,21 @@ def test_demo_gives_a_complete_report(data_dir, tmp_path, name):
     assert "(failed)" not in page and "Cleaning" in page
     for image in ("shaded.png", "mean_curvature.png", "decimated_10.png", "parametrization_lscm.png"):
         assert (tmp_path / image).stat().st_size > 0
+
+
+def test_demo_reports_a_failing_stage_and_goes_on(tmp_path, monkeypatch):
+    from meshsmith.demo import pipeline, stage_clean, stage_input
+
+    def stage_broken(context):
+        raise meshsmith.InputError("broken on purpose")
+
+    source = tmp_path / "in.obj"
+    V, F = datasets.icosphere(1)
+    meshsmith.io.write_mesh(source, np.vstack([V, [[3.0, 3, 3]]]), F[:, ::-1])
+    monkeypatch.setattr(pipeline, "STAGES", [stage_clean, stage_broken, stage_input])
+    page = pipeline.run_demo(tmp_path / "out", str(source)).read_text()
+    figures = json.loads((tmp_path / "out" / "results.json").read_text())
+    assert figures["errors"] == {"broken": "InputError: broken on purpose"}
+    assert "broken (failed)" in page and "broken on purpose" in page
+    assert figures["clean"]["flipped_faces"] == len(F) and figures["clean"]["unreferenced_vertices"] == 1
+    assert figures["input"]["n_vertices"] == len(V) and figures["input"]["volume"] > 0   # ran on the cleaned mesh

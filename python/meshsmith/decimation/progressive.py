@@ -19,8 +19,8 @@ class ProgressiveMesh:
     in reverse, the collapses of :func:`decimate`.
 
     Levels: ``level`` k is the mesh after k vertex splits; 0 is the base mesh, ``n_splits`` the
-    full mesh, which reproduces the input (positions bit for bit, faces up to order and
-    rotation). Every level is a valid manifold mesh. The current level moves incrementally
+    full mesh, which reproduces the input without its unreferenced vertices (positions bit for
+    bit, faces up to order and rotation). Every level is a valid manifold mesh. The current level moves incrementally
     (:meth:`set_level`, :meth:`refine`, :meth:`coarsen`, :meth:`at`): the cost is proportional to
     the number of splits between the two levels, not to the mesh size. Meshes come back as
     (V (k, 3) float64, F (l, 3) int64) with their vertices in the order of the input mesh.

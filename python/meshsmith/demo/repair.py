@@ -20,6 +20,6 @@ def stage_clean(context: DemoContext) -> Section:
                 f"{len(F):,} faces; the stages below use the cleaned mesh.")
     else:
         text = "meshsmith.repair.clean (§2.4) found nothing to change: the input is clean."
-    figures = report.counts()
+    figures: dict[str, object] = dict(report.counts())
     context.figures["clean"] = figures
     return Section("Cleaning", text + " Counts of each kind of change:", figures)
