@@ -1,7 +1,8 @@
 """Shared fixtures: the real meshes of ../shared/data (or $MESHSMITH_DATA), skipped when absent.
 
 Under scripts/test_wheel.sh, $MESHSMITH_WHEEL_TEST names the wheel under test, and the session
-refuses to start unless meshsmith is imported from the running virtualenv (not from python/)."""
+refuses to start unless meshsmith is imported from the wheel's install (meshsmith/ beside
+meshsmith.libs/) in the running virtualenv."""
 import os
 import sys
 from pathlib import Path
@@ -15,11 +16,11 @@ WHEEL_UNDER_TEST = os.environ.get("MESHSMITH_WHEEL_TEST")
 def pytest_configure(config) -> None:
     if WHEEL_UNDER_TEST:
         import meshsmith
-        location = Path(meshsmith.__file__).resolve()
+        package = Path(meshsmith.__file__).resolve().parent
         venv = Path(sys.prefix).resolve()
-        if venv not in location.parents:
+        if venv not in package.parents or not (package.parent / "meshsmith.libs").is_dir():
             raise pytest.UsageError(f"testing the wheel {WHEEL_UNDER_TEST}, but meshsmith was imported from "
-                                    f"{location}, not from the virtualenv {venv}")
+                                    f"{package}, not from a repaired wheel's install in the virtualenv {venv}")
 
 
 def shared_data_dir() -> Path | None:
