@@ -31,6 +31,7 @@ echo "test_wheel: fresh venv with the wheel and the test extra in $((SECONDS - s
 # From $WORK, nothing of the source tree is importable: meshsmith must come from the venv.
 cd "$WORK"
 "$VENV/bin/python" "$REPO/scripts/check_wheel_libs.py"
+"$VENV/bin/meshsmith" --help >/dev/null   # the console script the wheel declares
 start=$SECONDS
 MESHSMITH_WHEEL_TEST=$WHEEL "$VENV/bin/python" -m pytest -q -p no:cacheprovider \
   -c "$REPO/pyproject.toml" --rootdir "$REPO" "$REPO/tests"
