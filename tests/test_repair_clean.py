@@ -285,6 +285,47 @@ def test_everything_at_once():
     assert len(report.lines(all_kinds=True)) == len(COUNTS)
 
 
+def test_triangle_soup_is_welded():
+    # Every face on its own three vertices, as STL-like exports write them.
+    V, F = datasets.icosphere(2)
+    V_in, F_in = V[F].reshape(-1, 3), np.arange(3 * len(F)).reshape(-1, 3)
+    V2, F2, report = repair.clean(V_in, F_in)
+    expect(report, merged_vertices=3 * len(F) - len(V))
+    assert_clean(V2, F2, report, V_in, F_in)
+    assert topology.info(V2, F2).genus == 0 and not topology.boundary_loops(F2)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_randomly_broken_meshes_come_out_clean(seed):
+    # Faces deleted, flipped, duplicated (either way round) and degenerate; vertices shuffled,
+    # duplicated at the same position and left unused; a second, inside-out component.
+    rng = np.random.default_rng(seed)
+    Vt, Ft = datasets.torus(n_major=20, n_minor=10)
+    Vs, Fs = datasets.icosphere(1)
+    V = np.vstack([Vt, Vs * 0.3 + [3.0, 0, 0]])
+    F = np.vstack([Ft, Fs[:, ::-1] + len(Vt)])
+    F = F[rng.random(len(F)) > 0.05]
+    flip = rng.random(len(F)) < 0.1
+    F[flip] = F[flip][:, ::-1]
+    copies = F[rng.choice(len(F), 10)]
+    copies[::2] = copies[::2, ::-1]
+    degenerate = np.repeat(rng.choice(len(V), (4, 1)), 3, axis=1)
+    degenerate[:, 2] = rng.choice(len(V), 4)
+    F = np.vstack([F, copies, degenerate])
+    twins = rng.choice(np.unique(F), 6, replace=False)        # coincident copies, each used by one corner
+    flat = F.reshape(-1)
+    for k, twin in enumerate(twins):
+        flat[rng.choice(np.flatnonzero(flat == twin))] = len(V) + k
+    V = np.vstack([V, V[twins], rng.random((5, 3))])          # and 5 unused vertices
+    order = rng.permutation(len(V))
+    V_in, F_in = V[order], np.argsort(order)[F]
+    V2, F2, report = repair.clean(V_in, F_in)
+    assert_clean(V2, F2, report, V_in, F_in)
+    assert report.merged_vertices == len(twins)
+    assert report.degenerate_faces >= 4 and report.duplicate_faces == len(copies)
+    assert report.flipped_faces > 0 and report.unreferenced_vertices >= 5
+
+
 def test_everything_removed_gives_an_empty_mesh():
     V = np.eye(3)
     V2, F2, report = repair.clean(V, [[0, 1, 1], [2, 2, 2]])

@@ -113,6 +113,9 @@ def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndar
     Exact duplicates are grouped first by sorting, then the distinct positions by a kd-tree radius
     search and union-find, so a chain of points each within `tolerance` of the next is one group
     (two output vertices are then always farther apart than `tolerance`).
+    Time O(n log n + p), p the number of pairs of distinct positions within `tolerance` (so any
+    number of exactly coincident points is cheap, while a tolerance far above the spacing of a
+    dense cloud makes p, and the time, grow with the square of the cloud's size).
     Returns (group (n,) int64, representatives (g,) int64): group[i] is the group of vertex i,
     groups are numbered in the order of their representative, the lowest vertex index in each.
     Raises InputError for a negative or non-finite tolerance, or bad V.
