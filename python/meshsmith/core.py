@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._core import core as _core
+from ._deprecation import positional_options
 from ._results import Unpackable
 from ._typing import ArrayLike, BoolArray, FloatArray, IndexArray, PathLike, ProgressCallback
 
@@ -66,6 +67,7 @@ class MeshDefects(Unpackable):
         return not self.summary
 
 
+@positional_options("area_tolerance")
 def mesh_defects(V: ArrayLike, F: ArrayLike, *, area_tolerance: float = 0.0) -> MeshDefects:
     """Find degenerate, zero-area and duplicate faces and unreferenced vertices of (V, F).
 

@@ -8,6 +8,7 @@ Modules, one per algorithm family: ``clustering``, ``qem``, ``progressive``.
 """
 from .clustering import CLUSTER_REPRESENTATIVES, ClusteredMesh, cluster
 from .progressive import ProgressiveMesh, progressive_mesh
-from .qem import DecimationReport, decimate
+from .qem import DecimatedMesh, DecimationReport, decimate
 
-__all__ = ["CLUSTER_REPRESENTATIVES", "ClusteredMesh", "cluster", "decimate", "DecimationReport", "ProgressiveMesh", "progressive_mesh"]
+__all__ = ["CLUSTER_REPRESENTATIVES", "ClusteredMesh", "cluster", "decimate", "DecimatedMesh", "DecimationReport",
+           "ProgressiveMesh", "progressive_mesh"]

@@ -8,6 +8,10 @@ import numpy as np
 
 from .. import geometry, topology
 from .._core import InputError
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..geometry import TriangleDistortion
 from .angle_based import abf
 from .bijectivity import is_bijective
 from .cut import CutMesh, cut_to_disk
@@ -28,8 +32,9 @@ PARAMETRIZATION_METHODS = {
 
 
 @dataclass(frozen=True)
-class Parametrization:
-    """A parametrization made by :func:`parametrize`, with its quality.
+class Parametrization(Unpackable):
+    """A parametrization made by :func:`parametrize`, with its quality; unpacks in field order
+    (``V, F, uv, cut, method, distortion, bijective``).
 
     V, F: the mesh the texture coordinates belong to (the input, or the input cut to a disk);
     uv: (k, 2) float64, one row per vertex of V; cut: the :class:`CutMesh` when the input had to
@@ -37,12 +42,12 @@ class Parametrization:
     :class:`meshsmith.geometry.TriangleDistortion` of the map; bijective: :func:`is_bijective`.
     """
 
-    V: np.ndarray
-    F: np.ndarray
-    uv: np.ndarray
+    V: FloatArray
+    F: IndexArray
+    uv: FloatArray
     cut: CutMesh | None
     method: str
-    distortion: object
+    distortion: TriangleDistortion
     bijective: bool
 
     def summary(self) -> dict[str, object]:
@@ -64,7 +69,9 @@ class Parametrization:
                 "seam edges": 0 if self.cut is None else int(len(self.cut.seam_edges))}
 
 
-def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization:
+@positional_options("method")
+def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: ProgressCallback = None
+                ) -> Parametrization:
     """Parametrize any clean manifold mesh with one of :data:`PARAMETRIZATION_METHODS`.
 
     A mesh that is not a topological disk (closed, higher genus, several holes) is first cut
