@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import os
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Sequence
 
 import numpy as np
 
@@ -36,13 +36,27 @@ from ._typing import ArrayLike, FloatArray, PathLike
 if TYPE_CHECKING:
     from .parametrization import Parametrization
 
-__all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "view_angles", "frame_camera", "colormap", "scalar_range",
+__all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "ViewAngles", "ScalarRange", "view_angles", "frame_camera", "colormap", "scalar_range",
            "render", "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
 
 #: A view: a name from :data:`VIEWS` or an (azimuth, elevation) pair in degrees.
 View = str | tuple[float, float]
 #: A colour: a name, "#rrggbb", or an RGB triple of 0-255 ints or 0-1 floats.
 Color = str | Sequence[float]
+
+
+class ViewAngles(NamedTuple):
+    """Result of :func:`view_angles`; unpacks as ``azimuth, elevation`` (degrees)."""
+
+    azimuth: float
+    elevation: float
+
+
+class ScalarRange(NamedTuple):
+    """Result of :func:`scalar_range`; unpacks as ``low, high``."""
+
+    low: float
+    high: float
 
 #: Named views as (azimuth, elevation) in degrees.
 VIEWS: dict[str, tuple[float, float]] = {
@@ -82,7 +96,7 @@ class Camera:
     ortho_height: float = 2.0
 
 
-def view_angles(view: View) -> tuple[float, float]:
+def view_angles(view: View) -> ViewAngles:
     """(azimuth, elevation) in degrees of a view name from :data:`VIEWS` or an (az, el) pair.
 
     Raises InputError for an unknown name or a pair that is not two finite numbers.
@@ -91,7 +105,7 @@ def view_angles(view: View) -> tuple[float, float]:
         if view not in VIEWS:
             raise InputError(f"unknown view '{view}': use one of {', '.join(VIEWS)} "
                              "or an (azimuth, elevation) pair in degrees")
-        return VIEWS[view]
+        return ViewAngles(*VIEWS[view])
     try:
         azimuth, elevation = (float(a) for a in view)
     except (TypeError, ValueError):
@@ -99,7 +113,7 @@ def view_angles(view: View) -> tuple[float, float]:
                          "nor an (azimuth, elevation) pair") from None
     if not (math.isfinite(azimuth) and math.isfinite(elevation)):
         raise InputError(f"view {view!r}: azimuth and elevation must be finite")
-    return azimuth, elevation
+    return ViewAngles(azimuth, elevation)
 
 
 @positional_options("view")
@@ -129,7 +143,7 @@ def colormap(name: str, steps: int = 256) -> FloatArray:
     return _core.colormap_table(name, int(steps))
 
 
-def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
+def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str = "viridis") -> ScalarRange:
     """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
 
     For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
@@ -139,10 +153,10 @@ def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str = "viridis") ->
     return _robust_range(scalar, vertex_count, cmap)
 
 
-def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> tuple[float, float]:
+def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRange:
     diverging = _core.colormap_is_diverging(cmap)
     low, high = _core.scalar_range(scalar, int(vertex_count), diverging)
-    return float(low), float(high)
+    return ScalarRange(float(low), float(high))
 
 
 def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -14,7 +14,14 @@ from .._typing import ArrayLike, BoolArray, FloatArray, PathLike
 from ..core import Mesh
 from .qem import decimate
 
-__all__ = ["ProgressiveMesh", "progressive_mesh"]
+__all__ = ["FaceRange", "ProgressiveMesh", "progressive_mesh"]
+
+
+class FaceRange(NamedTuple):
+    """:attr:`ProgressiveMesh.face_range`; unpacks as ``base, full``."""
+
+    base: int  #: faces of the base mesh (level 0)
+    full: int  #: faces of the full mesh (level n_splits)
 
 
 class ProgressiveMesh:
@@ -80,9 +87,9 @@ class ProgressiveMesh:
         return self._pm.face_count(self._pm.level)
 
     @property
-    def face_range(self) -> tuple[int, int]:
+    def face_range(self) -> FaceRange:
         """(faces of the base mesh, faces of the full mesh)."""
-        return self._pm.face_count(0), self._pm.face_count(self._pm.split_count)
+        return FaceRange(self._pm.face_count(0), self._pm.face_count(self._pm.split_count))
 
     def face_count(self, level: int) -> int:
         """Faces at ``level`` (each split adds two faces, one on the boundary)."""
