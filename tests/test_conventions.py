@@ -6,17 +6,20 @@ import importlib
 import inspect
 import numbers
 import pickle
+import pkgutil
 import warnings
 
 import numpy as np
 import pytest
 
+import meshsmith
 from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, render, tessellation,
                        topology)
 from meshsmith._results import Unpackable
 
-CHAPTERS = ["core", "io", "topology", "geometry", "curves", "points", "tessellation", "decimation",
-            "parametrization", "datasets", "render"]
+#: Every chapter module (a new chapter is picked up by itself); cli and demo are front ends.
+CHAPTERS = sorted(info.name for info in pkgutil.iter_modules(meshsmith.__path__)
+                  if not info.name.startswith("_") and info.name not in ("cli", "demo"))
 
 
 def disk():
