@@ -6,7 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-from meshsmith import cli, datasets, io
+from meshsmith import cli, datasets, geometry, io
 
 
 def run(*args):
@@ -144,15 +144,38 @@ def test_normals_rejects_too_few_points(tmp_path):
     assert result.returncode == 1 and result.stderr.startswith("meshsmith: error:")
 
 
-@pytest.mark.parametrize("kind, expected", [("mean", 1.0), ("gaussian", 1.0), ("k1", 1.0), ("k2", 1.0)])
-def test_curvature_values_of_a_unit_sphere(sphere_file, tmp_path, kind, expected):
+@pytest.mark.parametrize("kind, flags, expected", [("mean", [], 1.0), ("gaussian", ["--pointwise"], 1.0),
+                                                  ("gaussian", [], 4 * np.pi / 162), ("k1", [], 1.0), ("k2", [], 1.0)])
+def test_curvature_values_of_a_unit_sphere(sphere_file, tmp_path, kind, flags, expected):
     out = tmp_path / f"{kind}.npy"
-    result = run("curvature", sphere_file, "--kind", kind, "-o", out)
+    result = run("curvature", sphere_file, "--kind", kind, *flags, "-o", out)
     assert result.returncode == 0, result.stderr
     values = np.load(out)
     # 162 vertices: the quadric fit of k1, k2 is within 9% here (it converges at order 2, see
     # test_geometry_differential); this checks the command, not the estimator.
     assert values.shape == (162,) and np.median(values) == pytest.approx(expected, rel=0.1)
+
+
+@pytest.mark.parametrize("kind, flags, api", [
+    ("mean", [], lambda V, F: geometry.mean_curvature(V, F).H),
+    ("gaussian", [], lambda V, F: geometry.gaussian_curvature(V, F)),
+    ("gaussian", ["--pointwise"], lambda V, F: geometry.gaussian_curvature(V, F, pointwise=True)),
+    ("k1", [], lambda V, F: geometry.principal_curvatures(V, F).k1),
+    ("k2", [], lambda V, F: geometry.principal_curvatures(V, F).k2)])
+def test_curvature_command_gives_the_api_default(sphere_file, tmp_path, kind, flags, api):
+    # The CLI and the API give the same quantity: the .npy holds exactly what the function returns
+    # (on a closed mesh the integrated Gaussian curvature sums to 2 pi chi = 4 pi, Gauss-Bonnet).
+    V, F = io.read_mesh(sphere_file)
+    out = tmp_path / "values.npy"
+    assert run("curvature", sphere_file, "--kind", kind, *flags, "-o", out).returncode == 0
+    np.testing.assert_array_equal(np.load(out), api(V, F))
+    if kind == "gaussian" and not flags:
+        assert np.load(out).sum() == pytest.approx(4 * np.pi, abs=1e-9)
+
+
+def test_curvature_pointwise_is_for_gaussian_only(sphere_file, tmp_path):
+    result = run("curvature", sphere_file, "--kind", "mean", "--pointwise", "-o", tmp_path / "h.npy")
+    assert result.returncode == 1 and "--pointwise" in result.stderr
 
 
 def test_curvature_picture_and_bad_output(sphere_file, tmp_path):

@@ -49,7 +49,7 @@ def test_parametrize_disk_writes_the_library_map(disk_file, tmp_path, method, ca
     mesh = io.read_mesh_with_attributes(out)
     V, F = io.read_mesh(disk_file)
     np.testing.assert_array_equal(mesh.F, F)
-    expected = P.parametrize(V, F, method).uv
+    expected = P.parametrize(V, F, method=method).uv
     np.testing.assert_allclose(mesh.UV[mesh.F_uv], expected[F], atol=1e-12)
 
 

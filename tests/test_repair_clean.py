@@ -145,12 +145,12 @@ def test_merge_tolerance_joins_near_vertices_transitively():
     assert_clean(V2, F2, report, V_in, F_in, merge_tolerance=1e-6)
     assert repair.clean(V_in, F_in).report.merged_vertices == 0     # exact merging finds none
 
-    group, representatives = repair.merge_close_vertices([[0.0, 0, 0], [0.6, 0, 0], [1.2, 0, 0], [5, 0, 0]], 0.7)
+    group, representatives = repair.merge_close_vertices([[0.0, 0, 0], [0.6, 0, 0], [1.2, 0, 0], [5, 0, 0]], tolerance=0.7)
     np.testing.assert_array_equal(group, [0, 0, 0, 1])             # a chain is one group
     np.testing.assert_array_equal(representatives, [0, 3])
     group, _ = repair.merge_close_vertices([[1.0, 0, 0], [0.0, 0, 0], [-0.0, 0, 0], [1.0, 0, 1e-300]])
     np.testing.assert_array_equal(group, [0, 1, 1, 2])             # -0.0 == 0.0; 1e-300 is not 0
-    group, _ = repair.merge_close_vertices([[0.0, 0, 0], [1.0, 0, 0]], 1.0)
+    group, _ = repair.merge_close_vertices([[0.0, 0, 0], [1.0, 0, 0]], tolerance=1.0)
     np.testing.assert_array_equal(group, [0, 0])                   # at exactly the tolerance: merged
     for bad in (-1.0, np.nan, np.inf):
         with pytest.raises(meshsmith.InputError, match="merge tolerance"):
@@ -393,7 +393,7 @@ def test_parametrize_charts_every_component_side_by_side():
     Vd, Fd = datasets.disk(5, 20)
     V_in = np.vstack([[[7.0, 7, 7]], V, Vd + [3.0, 0, 0]])
     F_in = np.vstack([F + 1, Fd + 1 + len(V)])
-    result = parametrization.parametrize(V_in, F_in, "tutte")
+    result = parametrization.parametrize(V_in, F_in, method="tutte")
     assert np.isnan(result.uv[0]).all() and np.isfinite(result.uv[1:]).all()
     assert result.bijective and result.cut is not None and len(result.uv) == len(result.V)
     sphere_u = result.uv[np.unique(result.F[:len(F)]), 0]

@@ -4,7 +4,7 @@
     meshsmith clean IN -o OUT [--merge-tolerance D] [--min-component-faces N] [--no-orient] ...
     meshsmith convert IN OUT [--binary | --ascii]
     meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
-    meshsmith curvature IN --kind mean|gaussian|k1|k2 -o out.png|out.npy
+    meshsmith curvature IN --kind mean|gaussian|k1|k2 [--pointwise] -o out.png|out.npy
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
     meshsmith triangulate IN.poly --min-angle 30 [--max-area A] -o OUT.obj [--picture P.png]
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT

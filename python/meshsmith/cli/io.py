@@ -1,12 +1,15 @@
 """`meshsmith convert`: between mesh formats."""
 from __future__ import annotations
 
+import argparse
+from typing import Any
+
 from .. import io
 
 
-def command_convert(args) -> int:
+def command_convert(args: argparse.Namespace) -> int:
     V, F = io.read_mesh(args.input)
-    options = {}
+    options: dict[str, Any] = {}
     if args.binary or args.ascii:
         options["binary"] = bool(args.binary)
     io.write_mesh(args.output, V, F, **options)
@@ -14,7 +17,7 @@ def command_convert(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     convert = commands.add_parser("convert", help="convert between mesh formats",
                                   description="Read a mesh and write it in the format given by OUT's extension.")

@@ -8,6 +8,7 @@ import traceback
 from pathlib import Path
 
 from .. import core, io
+from .._typing import ProgressCallback
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
 from .geometry import stage_curvature
@@ -23,7 +24,7 @@ STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tesse
           stage_parametrization]
 
 
-def run_demo(out: Path | str, input_path: str | None = None, progress=None) -> Path:
+def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:
     """Run every stage and write `out/index.html`; returns its path.
 
     input_path: a mesh file to use instead of the built-in shape; the first stage cleans it

@@ -19,6 +19,8 @@ from scipy.sparse.csgraph import connected_components as _graph_components
 
 from .. import core, topology
 from .._core import InputError
+from .._results import Unpackable
+from .._typing import ArrayLike
 from ..points import KdTree
 from .orient import orient_faces
 from .unreferenced import remove_unreferenced
@@ -43,7 +45,7 @@ CLEAN_COUNTS = {
 
 
 @dataclass(frozen=True)
-class CleanReport:
+class CleanReport(Unpackable):
     """What :func:`clean` changed (counts), and where each output element comes from.
 
     Counts (ints): merged_vertices (input vertices merged into another one), degenerate_faces
@@ -106,7 +108,7 @@ class CleanMesh(NamedTuple):
     report: CleanReport
 
 
-def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def merge_close_vertices(V: ArrayLike, *, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Groups of vertices closer than or at `tolerance`, joined transitively.
 
     V: (n, 3) float array; tolerance >= 0 (0: exactly equal positions; -0.0 equals 0.0).
@@ -131,7 +133,7 @@ def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndar
         raise InputError(f"V row {row} is not finite")
     _, first, exact = np.unique(P + 0.0, axis=0, return_index=True, return_inverse=True)
     exact = exact.reshape(-1)
-    label = np.arange(len(first))
+    label: np.ndarray = np.arange(len(first))
     if tolerance > 0 and len(first) > 1:
         distinct = P[first]
         offsets, neighbours, _ = KdTree(distinct).query_radius(distinct, np.nextafter(tolerance, np.inf))
@@ -148,7 +150,7 @@ def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndar
     return renumber[cluster].astype(np.int64), representative[order]
 
 
-def clean(V, F, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool = True,
+def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool = True,
           split_non_manifold: bool = True, orient: bool = True, min_component_faces: int = 0) -> CleanMesh:
     """Clean a triangle mesh and say exactly what changed (§2.4).
 
@@ -183,7 +185,7 @@ def clean(V, F, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool 
     face_map = np.arange(len(F1), dtype=np.int64)
 
     if merge_tolerance is not None:
-        group, representatives = merge_close_vertices(V1, merge_tolerance)
+        group, representatives = merge_close_vertices(V1, tolerance=merge_tolerance)
         if len(representatives) < len(V1):
             counts["merged_vertices"] = len(V1) - len(representatives)
             V1, F1, vertex_map = V1[representatives], group[F1], vertex_map[representatives]

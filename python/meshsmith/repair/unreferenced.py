@@ -9,12 +9,14 @@ import numpy as np
 
 from .._core import InputError
 from .._core import core as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, IndexArray
 
 __all__ = ["ReferencedMesh", "remove_unreferenced", "on_referenced_vertices"]
 
 
 @dataclass(frozen=True)
-class ReferencedMesh:
+class ReferencedMesh(Unpackable):
     """The result of :func:`remove_unreferenced`; unpacks as ``V, F, vertex_map``.
 
     V: (k, 3) float64, the vertices some face uses, in their input order; F: (m, 3) int64, the
@@ -28,15 +30,14 @@ class ReferencedMesh:
     vertex_map: np.ndarray
     input_vertex_count: int
 
-    def __iter__(self):
-        return iter((self.V, self.F, self.vertex_map))
+    unpacks = ("V", "F", "vertex_map")
 
     @property
     def removed(self) -> int:
         """How many input vertices no face uses."""
         return self.input_vertex_count - len(self.vertex_map)
 
-    def to_input_rows(self, values, fill=np.nan) -> np.ndarray:
+    def to_input_rows(self, values: ArrayLike, fill: float = np.nan) -> np.ndarray:
         """Per-vertex values of this mesh, (k, ...) -> (n, ...) on the input's vertex indices,
         `fill` (NaN by default) in the rows of the unreferenced vertices."""
         values = np.asarray(values)
@@ -47,11 +48,11 @@ class ReferencedMesh:
         out[self.vertex_map] = values
         return out
 
-    def to_input_indices(self, indices) -> np.ndarray:
+    def to_input_indices(self, indices: ArrayLike) -> IndexArray:
         """Vertex indices of this mesh -> the input's (int64, same shape)."""
         return self.vertex_map[np.asarray(indices, dtype=np.int64)]
 
-    def from_input_indices(self, indices, what: str = "vertex list") -> np.ndarray:
+    def from_input_indices(self, indices: ArrayLike, what: str = "vertex list") -> IndexArray:
         """The input's vertex indices -> this mesh's (int64, same shape).
 
         Raises InputError for an index outside [0, n) or a vertex no face uses (naming it)."""
@@ -72,7 +73,7 @@ class ReferencedMesh:
         return position
 
 
-def remove_unreferenced(V, F) -> ReferencedMesh:
+def remove_unreferenced(V: ArrayLike, F: ArrayLike) -> ReferencedMesh:
     """Remove the vertices no face uses (§2.4), keeping the others in their order.
 
     V: (n, 3) float array, F: (m, 3) integer array (m >= 1). Returns a :class:`ReferencedMesh`
@@ -86,7 +87,7 @@ def remove_unreferenced(V, F) -> ReferencedMesh:
     return ReferencedMesh(mesh.V.copy(), mesh.F.astype(np.int64), mesh.vertex_map, mesh.input_vertex_count)
 
 
-def on_referenced_vertices(V, F) -> ReferencedMesh:
+def on_referenced_vertices(V: ArrayLike, F: ArrayLike) -> ReferencedMesh:
     """:func:`remove_unreferenced` for algorithms that need every vertex used and map their
     results back (:meth:`ReferencedMesh.to_input_rows`, ``to_input_indices``,
     ``from_input_indices``): the same result, but without copying V and F when every vertex is
