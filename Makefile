@@ -4,7 +4,7 @@ PYTHON ?= python3
 SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml scripts/bootstrap.sh
 STAMP := build/.installed-$(subst /,_,$(PYTHON))
 
-.PHONY: setup demo test bench clean
+.PHONY: setup demo test typecheck bench clean
 setup: $(STAMP)
 
 $(STAMP): $(SOURCES)
@@ -16,6 +16,10 @@ demo: setup
 
 test: setup
 	$(PYTHON) -m pytest -q tests
+
+# The package's type annotations, checked against the installed numpy/scipy stubs (mypy is in the test extra).
+typecheck: setup
+	$(PYTHON) -m mypy python/meshsmith
 
 # Peers are installed only here (Open3D is large); `make bench CHAPTERS="io topology"` runs a subset.
 bench: setup
