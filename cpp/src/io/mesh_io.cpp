@@ -292,35 +292,35 @@ void check_format_holds(const std::string& path, const PolygonMesh& mesh, Format
   switch (format) {
     case Format::stl:
       if (normals) refuse("normals", "STL stores facet normals computed from the positions; write OBJ, PLY, OFF or GLB");
-      if (uvs) refuse("texture coordinates (UV)", "write OBJ, PLY, OFF or GLB");
-      if (colors) refuse("vertex colours", "write PLY, OFF, OBJ or GLB");
-      if (face_colors) refuse("face colours", "write PLY or OFF");
+      if (uvs) refuse("UV (texture coordinates)", "write OBJ, PLY, OFF or GLB");
+      if (colors) refuse("colors (vertex colours)", "write PLY, OFF, OBJ or GLB");
+      if (face_colors) refuse("face_colors (face colours)", "write PLY or OFF");
       break;
     case Format::obj:
-      if (face_colors) refuse("face colours", "write PLY or OFF");
+      if (face_colors) refuse("face_colors (face colours)", "write PLY or OFF");
       if (colors && mesh.colors.cols() == 4)
         for (Eigen::Index r = 0; r < mesh.colors.rows(); ++r)
           if (mesh.colors(r, 3) != 1.0)
-            refuse("vertex colours with alpha (row " + std::to_string(r) + " has alpha " +
+            refuse("colors with alpha (row " + std::to_string(r) + " has alpha " +
                        std::to_string(mesh.colors(r, 3)) + ")",
                    "OBJ colours are r g b; write PLY, OFF or GLB");
       break;
     case Format::ply:
       if (normals && !per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals))
-        refuse("per-corner normals", "PLY normals are per vertex; write OBJ or GLB");
+        refuse("normals (per corner)", "PLY normals are per vertex; write OBJ or GLB");
       break;
     case Format::glb:
-      if (face_colors) refuse("face colours", "glTF colours are per vertex; write PLY or OFF");
+      if (face_colors) refuse("face_colors (face colours)", "glTF colours are per vertex; write PLY or OFF");
       if (uvs && std::find(mesh.face_uvs.begin(), mesh.face_uvs.end(), -1) != mesh.face_uvs.end())
-        refuse("texture coordinates (UV) on only some corners", "glTF vertices have all or none; write OBJ or PLY");
+        refuse("UV (texture coordinates) on only some corners", "glTF vertices have all or none; write OBJ or PLY");
       if (normals && std::find(mesh.face_normals.begin(), mesh.face_normals.end(), -1) != mesh.face_normals.end())
         refuse("normals on only some corners", "glTF vertices have all or none; write OBJ");
       break;
     case Format::off:
       if (normals && !per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals))
-        refuse("per-corner normals", "OFF normals are per vertex; write OBJ or GLB");
+        refuse("normals (per corner)", "OFF normals are per vertex; write OBJ or GLB");
       if (uvs && !per_vertex_values(mesh, mesh.UV, mesh.face_uvs, vertex_uvs))
-        refuse("per-corner texture coordinates (UV)", "OFF texture coordinates are per vertex; write OBJ, PLY or GLB");
+        refuse("UV (per-corner texture coordinates)", "OFF texture coordinates are per vertex; write OBJ, PLY or GLB");
       break;
     default: break;
   }

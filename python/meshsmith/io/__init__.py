@@ -69,6 +69,7 @@ import numpy as np
 
 from .._core import InputError
 from .._core import io as _core
+from . import gltf
 
 __all__ = ["Polygons", "MeshData", "SkippedDataWarning", "read_mesh", "write_mesh",
            "read_points", "write_points", "read_poly"]
@@ -213,8 +214,9 @@ def _warn(path, messages, stacklevel=3):
 
 def _read(path, triangulate, format, attributes: bool) -> MeshData:
     if _resolved_format(path, format) == "glb":
-        from . import gltf
-        mesh = gltf.read_glb(path)
+        fields, skipped = gltf.read_glb(path)
+        _warn(path, skipped, stacklevel=3)
+        mesh = MeshData(**fields)
         if triangulate:
             return mesh
         def polygons(F):
@@ -313,17 +315,16 @@ def write_mesh(path, V, F=None, *, normals=None, F_normal=None, UV=None, F_uv=No
         raise InputError("write_mesh: F (the faces) is missing")
     colors, face_colors = _unit_colors(colors), _unit_colors(face_colors)
     fmt = _resolved_format(path, format)
-    if fmt == "glb":
-        from . import gltf
-        gltf.write_glb(path, V, F, normals=normals, F_normal=F_normal, UV=UV, F_uv=F_uv,
-                       colors=colors, face_colors=face_colors)
-        return
-    if binary is None:
-        binary = _BINARY_BY_DEFAULT.get(fmt, False)
     faces, offsets = _polygon_arrays(F)
     if offsets is not None:
         F_uv = _corner_column(F_uv) if F_uv is not None else None
         F_normal = _corner_column(F_normal) if F_normal is not None else None
+    if fmt == "glb":
+        gltf.write_glb(path, _core.checked_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv,
+                                                normals, F_normal, colors, face_colors, "glb"))
+        return
+    if binary is None:
+        binary = _BINARY_BY_DEFAULT.get(fmt, False)
     _core.write_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv, normals, F_normal, colors,
                      face_colors, _format(format), bool(binary), bool(big_endian))
 

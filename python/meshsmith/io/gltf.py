@@ -3,7 +3,7 @@
 A GLB file is a 12-byte header, a JSON chunk that describes the scene, and a binary chunk that
 holds the arrays; both are decoded here with ``struct``, ``json`` and numpy (no dependency).
 Reached through :func:`meshsmith.io.read_mesh` / :func:`meshsmith.io.write_mesh` on ``.glb``
-paths.
+paths; the functions here work on plain arrays (this module imports nothing else of meshsmith.io).
 
 What is written: one scene, one node, one mesh with one primitive of triangles (polygons are
 fan-triangulated, a mesh without faces becomes a POINTS primitive): POSITION (float32, with the
@@ -36,7 +36,6 @@ import base64
 import json
 import os
 import struct
-import warnings
 
 import numpy as np
 
@@ -259,12 +258,24 @@ def _triangles(file, primitive, count):
     return triangles[~degenerate].astype(np.int64)
 
 
-def read_glb(path):
-    """Read a GLB file as a :class:`meshsmith.io.MeshData` (see the module docstring).
+def read_glb(path) -> tuple[dict, list[str]]:
+    """Read a GLB file (see the module docstring).
 
+    Returns (fields, warnings): fields holds the :class:`meshsmith.io.MeshData` fields the file
+    has (V, F; normals with F_normal, UV with F_uv, colors), warnings what was skipped.
     Raises InputError naming the file (and the byte or JSON element) for anything malformed.
     """
-    from . import MeshData, SkippedDataWarning
+    path = os.fsdecode(path)
+    try:
+        return _read_glb(path)
+    except InputError:
+        raise
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError,
+            struct.error, np.linalg.LinAlgError) as error:
+        raise InputError(f"{path}: malformed glTF ({type(error).__name__}: {error})") from None
+
+
+def _read_glb(path):
     file = _File(path)
     parts = []
     for mesh_index, world in _mesh_instances(file):
@@ -294,16 +305,14 @@ def read_glb(path):
                     lengths = np.linalg.norm(normals, axis=1, keepdims=True)
                     part["normals"] = np.divide(normals, lengths, out=normals, where=lengths > 0)
             parts.append(part)
-    for what, count in file.skipped.items():
-        warnings.warn(f"{file.path}: skipped {count} {what} (a mesh holds triangles)",
-                      SkippedDataWarning, stacklevel=4)
+    skipped = [f"skipped {count} {what} (a mesh holds triangles)" for what, count in file.skipped.items()]
     if not parts:
         file.fail("the file holds no mesh primitive")
     if len(parts) == 1 and "origin" in parts[0]:
         welded = _weld(parts[0])
         if welded is not None:
-            return MeshData(**welded)
-    return MeshData(**_concatenate(parts))
+            return welded, skipped
+    return _concatenate(parts), skipped
 
 
 def _weld(part):
@@ -364,21 +373,16 @@ def _per_vertex(n, F, values, F_values):
     return out if np.array_equal(out[corners], values[indices]) else None
 
 
-def write_glb(path, V, F, *, normals=None, F_normal=None, UV=None, F_uv=None, colors=None,
-              face_colors=None) -> None:
-    """Write a GLB file (see the module docstring); arguments as :func:`meshsmith.io.write_mesh`.
+def write_glb(path, mesh: dict) -> None:
+    """Write a GLB file (see the module docstring).
 
-    Raises InputError for bad arrays (the checks of every writer), face colours, attributes on
-    only some corners, values beyond float32, or a file that cannot be written.
+    mesh: the arrays of ``meshsmith._core.io.checked_mesh(..., format="glb")``, which has made
+    the checks of every writer (shapes, finite values, index ranges, colours in [0, 1]) and
+    refused what GLB cannot hold (face colours, attributes on only some corners): V, offsets
+    and indices of the polygons, UV / N with their flat corner indices (or None), colors.
+    Raises InputError for values beyond float32 or a file that cannot be written.
     """
-    from . import Polygons, _corner_column, _polygon_arrays
     path = os.fsdecode(path)
-    faces, offsets = _polygon_arrays(F)
-    if offsets is not None:
-        F_uv = _corner_column(F_uv) if F_uv is not None else None
-        F_normal = _corner_column(F_normal) if F_normal is not None else None
-    mesh = _core.checked_mesh(path, V, faces, offsets, UV, F_uv, normals, F_normal, colors,
-                              face_colors, "glb")
     V = mesh["V"]
     if len(V) == 0:
         raise InputError(f"{path}: cannot write: a GLB file needs at least one vertex")
@@ -386,13 +390,12 @@ def write_glb(path, V, F, *, normals=None, F_normal=None, UV=None, F_uv=None, co
         if mesh[name] is not None and len(mesh[name]) and np.abs(mesh[name]).max() > _FLOAT32_MAX:
             raise InputError(f"{path}: cannot write: GLB stores float32 and {name} holds "
                              f"{np.abs(mesh[name]).max():g}")
-    corners = Polygons(mesh["offsets"], mesh["indices"])
-    T = corners.triangulate()
+    offsets = mesh["offsets"].reshape(-1, 1)
 
     def triangles(indices):
-        if indices is None:
-            return None
-        return Polygons(mesh["offsets"], indices).triangulate()
+        return _core.triangulate_fan(offsets, indices.reshape(-1, 1))
+
+    T = triangles(mesh["indices"])
 
     n = len(V)
     attributes = {}  # name: (values per glTF vertex, triangles into them)

@@ -107,7 +107,9 @@ struct WriteOptions {
 void check_writable(const std::string& path, const PolygonMesh& mesh);
 
 /// Checks that `format` can hold every attribute of `mesh` (write_mesh calls it second).
-/// \throw InputError naming the attribute and the format, and a format that can hold it, when
+/// \throw InputError "<path>: cannot write <attribute> (...): <format> cannot hold them (...)",
+///        <attribute> being the Python keyword (normals, UV, colors, face_colors), with a format
+///        that can hold it, when
 ///        `mesh` has an attribute that `format` cannot hold:
 ///        STL holds none (only positions; facet normals come from them); OBJ no face colours and
 ///        no colour alpha below 1; PLY no per-corner normals; OFF no per-corner normals or UVs;
