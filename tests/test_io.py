@@ -664,12 +664,23 @@ def sample_files():
                "xyz": b"1 2 3 0 0 1\n4 5 6 0 1 0\n",
                "objattr": (OBJ_TEXT + "vt 0 0\nvt 1 0\nvn 0 0 1\nf -4/1/1 -3/2/1 -2/-1/-1 -1//1\n"
                            "f 1/1 2/2 3/1\n").encode(),
-               "coff": b"COFF\n4 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n0 0 1 1 1 1 1\n4 0 1 2 3\n"}
+               "coff": b"COFF\n4 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n0 0 1 1 1 1 1\n4 0 1 2 3\n",
+               "stcnoff": b"STCNOFF\n3 1 0\n0 0 0 0 0 1 255 0 0 0 0\n1 0 0 0 0 1 0 255 0 9 1 0\n"
+                          b"0 1 0 0 0 1 0 0 255 0 1\n3 0 1 2 0.5 0.5 0.5\n",
+               "leoff": b"OFF BINARY\n" + struct.pack("<3i", 4, 1, 0) + struct.pack("<12f", *range(12))
+               + struct.pack("<4i", 3, 0, 1, 2),
+               "cply": (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                        b"property float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+                        b"property uchar blue\nelement face 1\nproperty list uchar int vertex_indices\n"
+                        b"property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                        b"property list uchar float texcoord\nend_header\n"
+                        + b"".join(struct.pack("<3f3B", *p, 9, 99, 199) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+                        + struct.pack("<B3i3BB6f", 3, 0, 1, 2, 1, 2, 3, 6, 0, 0, 1, 0, 0, 1))}
     return samples
 
 
 EXTENSION = {"bply": "ply", "beply": "ply", "bstl": "stl", "boff": "off", "tply": "ply",
-             "objattr": "obj", "coff": "off"}
+             "objattr": "obj", "coff": "off", "stcnoff": "off", "leoff": "off", "cply": "ply"}
 
 
 def check_reader_result(path, ext):
@@ -694,6 +705,10 @@ def check_reader_result(path, ext):
     for values, corners in ((mesh.UV, mesh.F_uv), (mesh.normals, mesh.F_normal)):
         if corners is not None:
             assert np.all((corners.indices >= -1) & (corners.indices < len(values)))
+    if mesh.colors is not None:
+        assert mesh.colors.shape in ((len(V), 3), (len(V), 4)) and np.all(np.isfinite(mesh.colors))
+    if mesh.face_colors is not None:
+        assert mesh.face_colors.shape[0] == len(mesh.F) and np.all(np.isfinite(mesh.face_colors))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])

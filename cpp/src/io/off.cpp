@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace meshsmith::io {
@@ -63,7 +64,7 @@ void check_counts(std::int64_t vertices, std::int64_t faces, std::size_t bytes,
   if (vertices > INT_MAX) fail("too many vertices");
 }
 
-/// Colour values of a file as read: RGBA rows (alpha 1 where 3 were given), scaled to [0, 1] at
+/// Colour values of a file as read: RGBA rows (alpha NaN, then 1, where 3 were given), scaled to [0, 1] at
 /// the end. Geomview allows integers 0..255 as well as floats 0..1; like the PMP library (which
 /// decides per vertex), a set of colours with a component above 1 is taken as 0..255 (decided
 /// per set, so that dark 0..255 colours are not read as 0..1).
@@ -75,7 +76,7 @@ struct ColorSet {
 
   void add(const double* values, int count) {
     rgba.insert(rgba.end(), values, values + 3);
-    rgba.push_back(count == 4 ? values[3] : 1.0);
+    rgba.push_back(count == 4 ? values[3] : std::numeric_limits<double>::quiet_NaN());  // 1 once scaled
     alpha |= count == 4;
     for (int c = 0; c < count; ++c) largest = std::max(largest, values[c]);
     ++given;
@@ -94,7 +95,8 @@ struct ColorSet {
     const double divisor = largest > 1.0 ? 255.0 : 1.0;
     out.resize(rows, alpha ? 4 : 3);
     for (std::int64_t r = 0; r < rows; ++r)
-      for (Eigen::Index c = 0; c < out.cols(); ++c) out(r, c) = rgba[4 * r + c] / divisor;
+      for (Eigen::Index c = 0; c < out.cols(); ++c)
+        out(r, c) = std::isnan(rgba[4 * r + c]) ? 1.0 : rgba[4 * r + c] / divisor;
     return out;
   }
 };
