@@ -139,7 +139,9 @@ ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const R
       // x y z, x y z w (w ignored), x y z r g b or x y z r g b a.
       double values[7];
       const int given = parse_vertex(lines, tokens, values);
-      piece.positions.insert(piece.positions.end(), values, values + 3);
+      piece.positions.push_back(values[0]);
+      piece.positions.push_back(values[1]);
+      piece.positions.push_back(values[2]);
       if (given >= 6) {
         ++piece.colored;
         if (options.with_colors) {

@@ -21,11 +21,9 @@ def command_convert(args) -> int:
         print(f"meshsmith: warning: {warning.message}", file=sys.stderr)
     dropped = {field: None for name in args.drop or [] for field in DROPPABLE[name]}
     kept = {name: value for name, value in mesh.attribute_arrays().items() if name not in dropped}
-    options = {}
-    if args.binary or args.ascii:
-        options["binary"] = bool(args.binary)
+    binary = bool(args.binary) if args.binary or args.ascii else None
     try:
-        io.write_mesh(args.output, mesh.V, mesh.F, **kept, **options)
+        io.write_mesh(args.output, mesh.V, mesh.F, binary=binary, **kept)
     except InputError as error:
         refused = re.search(r"cannot write (\w+)", str(error))
         flag = FLAG_OF_KEYWORD.get(refused.group(1)) if refused else None

@@ -64,6 +64,7 @@ from __future__ import annotations
 import os
 import warnings
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 
@@ -188,7 +189,7 @@ class MeshData:
 
 def _mesh_data_from_arrays(arrays: dict) -> MeshData:
     """Inverse of MeshData.__reduce__: the dict of plain arrays back to a MeshData."""
-    values = {}
+    values: dict[str, Any] = {}
     for field in fields(MeshData):
         if field.name + ".offsets" in arrays:
             values[field.name] = Polygons(arrays[field.name + ".offsets"], arrays[field.name + ".indices"])
@@ -212,17 +213,23 @@ def _warn(path, messages, stacklevel=3):
         warnings.warn(f"{os.fsdecode(path)}: {message}", SkippedDataWarning, stacklevel=stacklevel + 1)
 
 
+def _read_glb(path, triangulate: bool) -> MeshData:
+    arrays, skipped = gltf.read_glb(path)
+    _warn(path, skipped, stacklevel=4)
+    mesh = MeshData(**arrays)
+    if triangulate:
+        return mesh
+
+    def as_polygons(F):
+        return None if F is None else Polygons.from_triangles(F)
+
+    return MeshData(mesh.V, Polygons.from_triangles(mesh.F), mesh.normals, as_polygons(mesh.F_normal),
+                    mesh.UV, as_polygons(mesh.F_uv), mesh.colors, mesh.face_colors)
+
+
 def _read(path, triangulate, format, attributes: bool) -> MeshData:
     if _resolved_format(path, format) == "glb":
-        fields, skipped = gltf.read_glb(path)
-        _warn(path, skipped, stacklevel=3)
-        mesh = MeshData(**fields)
-        if triangulate:
-            return mesh
-        def polygons(F):
-            return None if F is None else Polygons.from_triangles(F)
-        return MeshData(mesh.V, polygons(mesh.F), mesh.normals, polygons(mesh.F_normal), mesh.UV,
-                        polygons(mesh.F_uv), mesh.colors, mesh.face_colors)
+        return _read_glb(path, triangulate)
     out = _core.read_mesh(os.fsdecode(path), _format(format), bool(triangulate), attributes,
                           attributes, attributes)
     _warn(path, out["warnings"], stacklevel=3)
