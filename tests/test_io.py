@@ -306,11 +306,13 @@ f 1 2 3
 l 1 2
 """
     (tmp_path / "q.obj").write_text(text)
-    mesh = io.read_mesh(tmp_path / "q.obj", triangulate=False, return_attributes=True)
+    with pytest.warns(io.SkippedDataWarning, match=r"skipped 1 'l' statement \(polylines"):
+        mesh = io.read_mesh(tmp_path / "q.obj", triangulate=False, return_attributes=True)
     assert mesh.F.to_list() == [[0, 1, 2, 3], [0, 1, 2]]
     assert mesh.F_uv.to_list() == [[0, 1, 2, 3], [-1, -1, -1]]
     assert mesh.F_normal.to_list() == [[0, 0, 0, 0], [-1, -1, -1]]
-    tri = io.read_mesh(tmp_path / "q.obj", return_attributes=True)
+    with pytest.warns(io.SkippedDataWarning):
+        tri = io.read_mesh(tmp_path / "q.obj", return_attributes=True)
     np.testing.assert_array_equal(tri.F_uv, [[0, 1, 2], [0, 2, 3], [-1, -1, -1]])
     # Written back: the face without vt/vn is written plain, the other with both.
     io.write_mesh(tmp_path / "q2.obj", mesh.V, mesh.F, UV=mesh.UV, F_uv=mesh.F_uv, normals=mesh.normals,
@@ -711,6 +713,7 @@ def check_reader_result(path, ext):
         assert mesh.face_colors.shape[0] == len(mesh.F) and np.all(np.isfinite(mesh.face_colors))
 
 
+@pytest.mark.filterwarnings("ignore::meshsmith.io.SkippedDataWarning")  # mutations make odd statements
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(data=st.binary(max_size=600), ext=st.sampled_from(["obj", "off", "ply", "stl", "xyz"]))
 def test_fuzz_random_bytes(tmp_path, data, ext):
@@ -719,6 +722,7 @@ def test_fuzz_random_bytes(tmp_path, data, ext):
     check_reader_result(path, ext)
 
 
+@pytest.mark.filterwarnings("ignore::meshsmith.io.SkippedDataWarning")  # mutations make odd statements
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(kind=st.sampled_from(sorted(sample_files())), data=st.data())
 def test_fuzz_mutated_valid_files(tmp_path, kind, data):

@@ -234,6 +234,18 @@ def test_obj_vertex_colours_and_skipped_statements(tmp_path):
         io.read_mesh(tmp_path / "quiet.obj", return_attributes=True)
 
 
+def test_obj_many_unknown_kinds_are_counted_not_listed(tmp_path):
+    lines = ["v 0 0 0", "v 1 0 0", "v 0 1 0", "f 1 2 3"] + [f"kind{k} 1" for k in range(5000)]
+    (tmp_path / "junk.obj").write_text("\n".join(lines) + "\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        V, F = io.read_mesh(tmp_path / "junk.obj")
+    assert F.tolist() == [[0, 1, 2]]
+    assert len(caught) == 17  # 16 kinds named, the rest counted
+    assert str(caught[0].message).endswith("skipped 1 unknown 'kind0' statement")
+    assert str(caught[-1].message).endswith("skipped 4984 more statements of other unknown kinds")
+
+
 def test_obj_partial_colours_warn_and_rgba(tmp_path):
     (tmp_path / "p.obj").write_text("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     with pytest.warns(SkippedDataWarning, match=r"only 1 of 3 vertices have colours"):

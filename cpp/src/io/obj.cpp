@@ -38,6 +38,25 @@ const char* skipped_geometry(std::string_view keyword) {
   return nullptr;
 }
 
+/// Counts of the statements a parse skipped with a warning, by kind: at most `limit` kinds are
+/// named (in order of first appearance), the rest are only counted, so that a file of garbage
+/// costs no more than a file of faces.
+struct SkippedStatements {
+  static constexpr std::size_t limit = 16;
+  std::vector<std::pair<std::string, std::int64_t>> kinds;
+  std::int64_t others = 0;
+
+  void add(std::string_view keyword, std::int64_t count) {
+    for (auto& [kind, total] : kinds)
+      if (kind == keyword) {
+        total += count;
+        return;
+      }
+    if (kinds.size() < limit) kinds.emplace_back(std::string(keyword), count);
+    else others += count;
+  }
+};
+
 /// Turns a 1-based (or negative, relative) OBJ index into a 0-based one; remembers the largest
 /// forward reference so that it can be checked once every element has been read.
 struct IndexResolver {
@@ -113,7 +132,7 @@ struct ObjPiece {
   std::vector<double> colors;  // 4 per vertex with colour (alpha 1 when 3 were given)
   std::int64_t colored = 0;    // vertices with colours ('v x y z r g b [a]')
   bool any_alpha = false;
-  std::vector<std::pair<std::string, std::int64_t>> skipped;  // statement kind, count
+  SkippedStatements skipped;
   std::vector<std::int64_t> face_offsets{0};  // local: start at 0
   std::vector<int> corners, corner_uvs, corner_normals;
   std::int64_t uv_count = 0, normal_count = 0;
@@ -195,10 +214,7 @@ ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const R
       ++piece.normal_count;
       parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals);
     } else if (!is_ignored_statement(keyword)) {
-      auto known = std::find_if(piece.skipped.begin(), piece.skipped.end(),
-                                [&](const auto& entry) { return entry.first == keyword; });
-      if (known != piece.skipped.end()) ++known->second;
-      else piece.skipped.emplace_back(std::string(keyword), 1);
+      piece.skipped.add(keyword, 1);
     }
   }
   return piece;
@@ -308,16 +324,12 @@ PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
   }
   std::int64_t colored = 0;
   bool any_alpha = false;
-  std::vector<std::pair<std::string, std::int64_t>> skipped;
+  SkippedStatements skipped;
   for (const ObjPiece& piece : pieces) {
     colored += piece.colored;
     any_alpha |= piece.any_alpha;
-    for (const auto& [keyword, count] : piece.skipped) {
-      auto known = std::find_if(skipped.begin(), skipped.end(),
-                                [&](const auto& entry) { return entry.first == keyword; });
-      if (known != skipped.end()) known->second += count;
-      else skipped.emplace_back(keyword, count);
-    }
+    for (const auto& [keyword, count] : piece.skipped.kinds) skipped.add(keyword, count);
+    skipped.others += piece.skipped.others;
   }
   if (options.with_colors && colored == vertex_count) {
     const std::vector<double> rgba = join(pieces, &ObjPiece::colors);
@@ -329,13 +341,16 @@ PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
                             std::to_string(vertex_count) +
                             " vertices have colours ('v x y z r g b'): colours not read");
   }
-  for (const auto& [keyword, count] : skipped) {
+  for (const auto& [keyword, count] : skipped.kinds) {
     const char* geometry = skipped_geometry(keyword);
     mesh.warnings.push_back("skipped " + std::to_string(count) + " " +
                             (geometry ? "" : "unknown ") + printable(quoted(keyword)) +
                             (count == 1 ? " statement" : " statements") +
                             (geometry ? std::string(" (") + geometry + ": a mesh holds faces)" : ""));
   }
+  if (skipped.others > 0)
+    mesh.warnings.push_back("skipped " + std::to_string(skipped.others) +
+                            " more statements of other unknown kinds");
   return mesh;
 }
 
