@@ -327,6 +327,8 @@ def write_mesh(path, V, F=None, *, normals=None, F_normal=None, UV=None, F_uv=No
         F_uv = _corner_column(F_uv) if F_uv is not None else None
         F_normal = _corner_column(F_normal) if F_normal is not None else None
     if fmt == "glb":
+        if binary is False:
+            raise InputError(f"{os.fsdecode(path)}: GLB files are binary (binary=False asks for text)")
         gltf.write_glb(path, _core.checked_mesh(os.fsdecode(path), V, faces, offsets, UV, F_uv,
                                                 normals, F_normal, colors, face_colors, "glb"))
         return

@@ -160,7 +160,8 @@ class _File:
         if "bufferView" not in accessor:  # all zeros, as the specification says
             return np.zeros((count, width))
         view = self.item("bufferViews", accessor["bufferView"])
-        buffer = self.buffers[self.item("buffers", view.get("buffer")) and view["buffer"]]
+        self.item("buffers", view.get("buffer"))  # checks the index
+        buffer = self.buffers[view["buffer"]]
         start = view.get("byteOffset", 0) + accessor.get("byteOffset", 0)
         element = dtype.itemsize * width
         stride = view.get("byteStride") or element
