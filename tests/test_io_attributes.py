@@ -11,6 +11,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import meshsmith
 from meshsmith import datasets, io
@@ -408,3 +410,51 @@ def test_spot_uvs_survive_every_format_that_holds_them(tmp_path, data_dir):
     for ext in ("off", "stl"):
         with pytest.raises(meshsmith.InputError, match=rf"cannot write UV .*: {ext.upper()} cannot hold them \(.*write OBJ, PLY"):
             io.write_mesh(tmp_path / f"spot.{ext}", spot)
+
+
+# --------------------------------------------------------------------------------------------
+# Any values survive: a property test over the exact formats
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data(), mode=st.sampled_from([("obj", {}), ("ply", {}), ("ply", {"binary": False}),
+                                             ("ply", {"big_endian": True}), ("off", {})]))
+def test_attributes_round_trip_property(tmp_path, data, mode):
+    """Any finite values, polygons, per-corner or per-vertex attributes and colours in [0, 1]
+    come back exactly from every format that holds them."""
+    ext, kwargs = mode
+    doubles = st.floats(allow_nan=False, allow_infinity=False, width=64)
+    unit = st.floats(0.0, 1.0, width=64)
+    n = data.draw(st.integers(3, 9))
+    V = np.array(data.draw(st.lists(st.tuples(doubles, doubles, doubles), min_size=n, max_size=n)))
+    faces = data.draw(st.lists(st.lists(st.integers(0, n - 1), min_size=3, max_size=5), min_size=1, max_size=6))
+    polygons = Polygons.from_list(faces)
+    corners = len(polygons.indices)
+    per_corner = ext in ("obj", "ply") and data.draw(st.booleans())
+    k = corners if per_corner else n
+    UV = np.array(data.draw(st.lists(st.tuples(doubles, doubles), min_size=k, max_size=k)))
+    F_uv = np.arange(corners) if per_corner else None
+    given = {"UV": UV, "F_uv": F_uv}
+    normals_corner = ext == "obj" and data.draw(st.booleans())
+    m = corners if normals_corner else n
+    given["normals"] = np.array(data.draw(st.lists(st.tuples(doubles, doubles, doubles), min_size=m, max_size=m)))
+    given["F_normal"] = np.arange(corners)[::-1].copy() if normals_corner else None
+    width = 3 if ext == "obj" else data.draw(st.sampled_from([3, 4]))
+    given["colors"] = np.array(data.draw(st.lists(st.lists(unit, min_size=width, max_size=width), min_size=n, max_size=n)))
+    if ext != "obj":
+        given["face_colors"] = np.array(data.draw(st.lists(st.lists(unit, min_size=3, max_size=3),
+                                                           min_size=len(faces), max_size=len(faces))))
+    io.write_mesh(tmp_path / f"p.{ext}", V, polygons, **given, **kwargs)
+    back = io.read_mesh(tmp_path / f"p.{ext}", triangulate=False, return_attributes=True)
+    np.testing.assert_array_equal(back.V, V)
+    assert back.F.to_list() == faces
+    uv_corners = given["F_uv"] if given["F_uv"] is not None else polygons.indices
+    np.testing.assert_array_equal(back.UV[back.F_uv.indices], UV[uv_corners])
+    normal_corners = given["F_normal"] if given["F_normal"] is not None else polygons.indices
+    used = np.unique(polygons.indices)
+    if normals_corner:
+        np.testing.assert_array_equal(back.normals[back.F_normal.indices], given["normals"][normal_corners])
+    else:
+        np.testing.assert_array_equal(back.normals[used], given["normals"][used])
+    np.testing.assert_array_equal(back.colors, given["colors"])
+    if ext != "obj":
+        np.testing.assert_array_equal(back.face_colors, given["face_colors"])
