@@ -8,6 +8,7 @@ import numpy as np
 
 from .._core import InputError
 from .._core import decimation as _core
+from ..repair.unreferenced import on_referenced_vertices
 from .qem import decimate
 
 __all__ = ["ProgressiveMesh", "progressive_mesh"]
@@ -18,8 +19,8 @@ class ProgressiveMesh:
     in reverse, the collapses of :func:`decimate`.
 
     Levels: ``level`` k is the mesh after k vertex splits; 0 is the base mesh, ``n_splits`` the
-    full mesh, which reproduces the input (positions bit for bit, faces up to order and
-    rotation). Every level is a valid manifold mesh. The current level moves incrementally
+    full mesh, which reproduces the input without its unreferenced vertices (positions bit for
+    bit, faces up to order and rotation). Every level is a valid manifold mesh. The current level moves incrementally
     (:meth:`set_level`, :meth:`refine`, :meth:`coarsen`, :meth:`at`): the cost is proportional to
     the number of splits between the two levels, not to the mesh size. Meshes come back as
     (V (k, 3) float64, F (l, 3) int64) with their vertices in the order of the input mesh.
@@ -165,9 +166,11 @@ def progressive_mesh(V, F, **decimate_options) -> ProgressiveMesh:
     full-edge collapse). Returned at its full level.
 
     V: (n, 3) float array, F: (m, 3) integer array, manifold and consistently oriented, without
-    faces that repeat a vertex (the full level must reproduce the input).
+    faces that repeat a vertex (the full level must reproduce the input). Vertices no face uses
+    are left out: every level holds only vertices some face uses, in the input's order, so the
+    full level is ``(V[used], F renumbered)`` (:func:`meshsmith.repair.remove_unreferenced`).
     Raises InputError for bad input or options (as :func:`decimate`), or when the input is not
-    manifold or not oriented.
+    manifold or not oriented (the message names :func:`meshsmith.repair.clean`).
     """
     options = dict(decimate_options)
     if all(options.get(key) is None for key in ("target_faces", "ratio", "max_error")):
@@ -175,10 +178,12 @@ def progressive_mesh(V, F, **decimate_options) -> ProgressiveMesh:
     for key in ("record_collapses", "return_report"):
         if key in options:
             raise InputError(f"progressive_mesh: {key} is set by progressive_mesh itself")
+    V, F, _ = on_referenced_vertices(V, F)
     _, _, report = decimate(V, F, record_collapses=True, return_report=True, **options)
     if report.split_vertex_origin.size:
         raise InputError("progressive_mesh: the input is not manifold or not consistently oriented (the decimator "
-                         "had to split vertices); run topology.split_non_manifold_vertices or repair first")
+                         "had to split vertices): clean it first with meshsmith.repair.clean "
+                         "(`meshsmith clean` on the command line)")
     c = report.collapses
     vertices = np.column_stack([c["removed"], c["kept"], c["left"], c["right"]]) if len(c["removed"]) \
         else np.zeros((0, 4), dtype=np.int64)

@@ -7,8 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core import parametrization as _core
+from ..repair.unreferenced import ReferencedMesh, on_referenced_vertices
 
-__all__ = ["CutMesh", "cut_to_disk"]
+__all__ = ["CutMesh", "cut_to_disk", "cut_on_input_vertices"]
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,21 @@ def cut_to_disk(V, F) -> CutMesh:
     V: (n, 3) float array, F: (m, 3) integer array.
     Returns a :class:`CutMesh`; it unpacks as ``V_cut, F_cut, seam`` (``seam.seam_edges``,
     ``seam.vertex_origin``).
-    Raises InputError for a mesh that is non-manifold, not oriented, has several components,
-    isolated vertices or zero-area / repeated-index faces.
+    Vertices no face uses stay in V, unreferenced (the cut runs on the others).
+    Raises InputError for a mesh that is non-manifold or not oriented (clean it first with
+    :func:`meshsmith.repair.clean`), has several components or zero-area / repeated-index faces.
     """
-    return CutMesh(**_core.cut_to_disk(V, F))
+    mesh = on_referenced_vertices(V, F)
+    return cut_on_input_vertices(CutMesh(**_core.cut_to_disk(mesh.V, mesh.F)), mesh, V)
+
+
+def cut_on_input_vertices(cut: CutMesh, mesh: ReferencedMesh, V) -> CutMesh:
+    """A cut of the referenced part `mesh` of the input (V, F), renumbered onto the input: its
+    first n vertices are V's (the unreferenced ones stay unused), the seam copies appended."""
+    if not mesh.removed:
+        return cut
+    n, kept = mesh.input_vertex_count, len(mesh.vertex_map)
+    renumber = np.concatenate([mesh.vertex_map, n + np.arange(len(cut.V) - kept, dtype=np.int64)])
+    return CutMesh(V=np.concatenate([np.asarray(V, dtype=np.float64), cut.V[kept:]]), F=renumber[cut.F],
+                   vertex_origin=np.concatenate([np.arange(n, dtype=np.int64), renumber[cut.vertex_origin[kept:]]]),
+                   seam_edges=mesh.vertex_map[cut.seam_edges])

@@ -1,4 +1,7 @@
 """Boundary maps, harmonic/Tutte maps, stretch-minimizing maps and LSCM (§5.1.1–5.1.2); binding cpp/python/parametrization_maps.cpp.
+
+Every map runs on the vertices some face uses (repair.unreferenced.on_referenced_vertices) and
+answers on the caller's vertex indices: NaN rows of UV for unreferenced vertices.
 """
 from __future__ import annotations
 
@@ -7,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core import parametrization as _core
+from ..repair.unreferenced import on_referenced_vertices
 
 __all__ = ["map_boundary", "harmonic", "StretchResult", "stretch_minimizing", "lscm", "default_lscm_pins", "lscm_spectral"]
 
@@ -24,7 +28,10 @@ def map_boundary(V, F, shape: str = "circle", boundary=None) -> tuple[np.ndarray
     Raises InputError for a mesh that is not a clean, connected, oriented manifold with a boundary
     (a closed mesh: cut it with :func:`cut_to_disk`), or a bad loop.
     """
-    return _core.map_boundary(V, F, shape, boundary)
+    mesh = on_referenced_vertices(V, F)
+    loop = None if boundary is None else mesh.from_input_indices(boundary, "boundary")
+    indices, uv = _core.map_boundary(mesh.V, mesh.F, shape, loop)
+    return mesh.to_input_indices(indices), uv
 
 
 def harmonic(V, F, boundary=None, boundary_uv=None, weights: str = "uniform", *,
@@ -38,19 +45,21 @@ def harmonic(V, F, boundary=None, boundary_uv=None, weights: str = "uniform", *,
     weights: "uniform" (Tutte's embedding), "cotan" (the discrete harmonic map; the same as
         ``igl.harmonic(V, F, b, bc, 1)``) or "mean_value" (Floater). Uniform and mean-value
         weights are positive, so the map is bijective on a convex boundary; cotan may fold.
-    Returns UV, (n, 2) float64.
+    Returns UV, (n, 2) float64 (NaN rows for vertices no face uses).
     Raises InputError for bad input (non-disk without an explicit boundary, non-manifold,
-    several components, isolated vertices, zero-area faces, bad boundary arrays); SolverError if
+    several components, a boundary vertex no face uses, zero-area faces, bad boundary arrays); SolverError if
     the system is singular.
     """
-    return _core.harmonic(V, F, boundary, boundary_uv, weights, shape)
+    mesh = on_referenced_vertices(V, F)
+    fixed = None if boundary is None else mesh.from_input_indices(boundary, "boundary")
+    return mesh.to_input_rows(_core.harmonic(mesh.V, mesh.F, fixed, boundary_uv, weights, shape))
 
 
 @dataclass(frozen=True)
 class StretchResult:
     """The result of :func:`stretch_minimizing`.
 
-    uv: (n, 2) float64, the map of lowest stretch met; stretch: (k,) float64, Sander et al.'s
+    uv: (n, 2) float64, the map of lowest stretch met (NaN rows for vertices no face uses); stretch: (k,) float64, Sander et al.'s
     scale-invariant L2 stretch (1 for an isometry up to scale) of the harmonic start (entry 0)
     and after every reweighting step; best_iteration: the index into `stretch` of `uv`.
     """
@@ -74,7 +83,9 @@ def stretch_minimizing(V, F, iterations: int = 10, *, weights: str = "mean_value
     progress: optional callback (fraction, stage) -> bool (False cancels).
     Returns a :class:`StretchResult`. Raises InputError as :func:`harmonic`, or for iterations < 0.
     """
-    return StretchResult(**_core.stretch_minimizing(V, F, iterations, weights, shape, progress))
+    mesh = on_referenced_vertices(V, F)
+    result = _core.stretch_minimizing(mesh.V, mesh.F, iterations, weights, shape, progress)
+    return StretchResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
 
 
 def lscm(V, F, pinned=None, pinned_uv=None) -> np.ndarray:
@@ -88,16 +99,21 @@ def lscm(V, F, pinned=None, pinned_uv=None) -> np.ndarray:
     Default (both None; the mesh must then be a disk): the two boundary vertices farthest apart
     (a double sweep on the longest loop) at (0, 0) and (their 3D distance, 0) — see
     :func:`default_lscm_pins`.
-    Returns UV, (n, 2) float64, triangles counter-clockwise. Raises InputError for bad input
-    (closed: cut with :func:`cut_to_disk`; non-manifold, several components, isolated vertices,
+    Returns UV, (n, 2) float64, triangles counter-clockwise (NaN rows for vertices no face uses).
+    Raises InputError for bad input (closed: cut with :func:`cut_to_disk`; non-manifold: clean
+    with :func:`meshsmith.repair.clean`; several components, a pin no face uses,
     zero-area faces, bad pins); SolverError if the system is singular.
     """
-    return _core.lscm(V, F, pinned, pinned_uv)
+    mesh = on_referenced_vertices(V, F)
+    pins = None if pinned is None else mesh.from_input_indices(pinned, "pinned")
+    return mesh.to_input_rows(_core.lscm(mesh.V, mesh.F, pins, pinned_uv))
 
 
 def default_lscm_pins(V, F) -> tuple[np.ndarray, np.ndarray]:
     """The pins :func:`lscm` uses when none are given: (indices (2,) int64, uv (2, 2) float64)."""
-    return _core.default_lscm_pins(V, F)
+    mesh = on_referenced_vertices(V, F)
+    indices, uv = _core.default_lscm_pins(mesh.V, mesh.F)
+    return mesh.to_input_indices(indices), uv
 
 
 def lscm_spectral(V, F) -> np.ndarray:
@@ -109,7 +125,9 @@ def lscm_spectral(V, F) -> np.ndarray:
     triangles counter-clockwise; unique up to a rotation.
 
     V: (n, 3) float array, F: (m, 3) integer array (connected, oriented manifold with a boundary).
-    Returns UV, (n, 2) float64. Raises InputError as :func:`lscm`; SolverError if the
+    Returns UV, (n, 2) float64 (NaN rows for vertices no face uses). Raises InputError as
+    :func:`lscm`; SolverError if the
     eigensolver fails.
     """
-    return _core.lscm_spectral(V, F)
+    mesh = on_referenced_vertices(V, F)
+    return mesh.to_input_rows(_core.lscm_spectral(mesh.V, mesh.F))
