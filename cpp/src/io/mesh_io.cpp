@@ -291,8 +291,14 @@ void check_format_holds(const std::string& path, const PolygonMesh& mesh, Format
   UVMatrix vertex_uvs;
   switch (format) {
     case Format::stl:
-      if (normals) refuse("normals", "STL stores facet normals computed from the positions; write OBJ, PLY, OFF or GLB");
-      if (uvs) refuse("UV (texture coordinates)", "write OBJ, PLY, OFF or GLB");
+      // Suggest only formats that hold them as they are (per vertex or per corner).
+      if (normals)
+        refuse("normals", std::string("STL stores facet normals computed from the positions; ") +
+                              (per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals)
+                                   ? "write OBJ, PLY, OFF or GLB" : "write OBJ or GLB"));
+      if (uvs)
+        refuse("UV (texture coordinates)", per_vertex_values(mesh, mesh.UV, mesh.face_uvs, vertex_uvs)
+                                               ? "write OBJ, PLY, OFF or GLB" : "write OBJ, PLY or GLB");
       if (colors) refuse("colors (vertex colours)", "write PLY, OFF, OBJ or GLB");
       if (face_colors) refuse("face_colors (face colours)", "write PLY or OFF");
       break;
