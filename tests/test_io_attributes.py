@@ -248,6 +248,14 @@ def test_obj_many_unknown_kinds_are_counted_not_listed(tmp_path):
     assert str(caught[-1].message).endswith("skipped 4984 more statements of other unknown kinds")
 
 
+def test_obj_texture_w_warns(tmp_path):
+    (tmp_path / "w.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0.5\nvt 0 1 0.5\nf 1/1 2/2 3/3\n")
+    with pytest.warns(SkippedDataWarning, match=r"2 texture coordinates have a third component w"):
+        data = io.read_mesh(tmp_path / "w.obj", return_attributes=True)
+    np.testing.assert_array_equal(data.UV, [[0, 0], [1, 0], [0, 1]])
+    assert repr(data) == "MeshData(V=(3, 3), F=(1, 3), UV=(3, 2), F_uv=(1, 3))"
+
+
 def test_obj_partial_colours_warn_and_rgba(tmp_path):
     (tmp_path / "p.obj").write_text("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     with pytest.warns(SkippedDataWarning, match=r"only 1 of 3 vertices have colours"):

@@ -88,10 +88,11 @@ struct IndexResolver {
   }
 };
 
-/// Parses the numbers of a v/vt/vn statement into `out` (at least `minimum`, at most `maximum`
-/// values; `store` of them are appended, missing ones as 0).
-void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword, int minimum,
-                   int maximum, int store, std::vector<double>& out) {
+/// Parses the numbers of a vt/vn statement into `out` (at least `minimum`, at most `maximum`
+/// values; `store` of them are appended, missing ones as 0). Returns how many there were; `last`
+/// gets the last one.
+int parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword, int minimum,
+                  int maximum, int store, std::vector<double>& out, double& last) {
   std::string_view token;
   int count = 0;
   double value;
@@ -102,11 +103,13 @@ void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword,
     if (count < store) out.push_back(value);
     if (++count > maximum)
       lines.fail(std::string("too many values in a '") + keyword + "' statement");
+    last = value;
   }
   if (count < minimum)
     lines.fail(std::string("'") + keyword + "' needs at least " + std::to_string(minimum) +
                " numbers, found " + std::to_string(count));
-  for (; count < store; ++count) out.push_back(0.0);
+  for (int k = count; k < store; ++k) out.push_back(0.0);
+  return count;
 }
 
 /// Parses the 3 to 7 numbers of a 'v' statement into `values`; returns how many there were.
@@ -131,6 +134,7 @@ struct ObjPiece {
   std::vector<double> positions, uvs, normals;
   std::vector<double> colors;  // 4 per vertex with colour (alpha 1 when 3 were given)
   std::int64_t colored = 0;    // vertices with colours ('v x y z r g b [a]')
+  std::int64_t uv_with_w = 0;  // 'vt u v w' with w != 0 (3D texture coordinates)
   bool any_alpha = false;
   SkippedStatements skipped;
   std::vector<std::int64_t> face_offsets{0};  // local: start at 0
@@ -209,10 +213,13 @@ ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const R
       piece.face_offsets.push_back(piece.face_offsets.back() + corners);
     } else if (keyword == "vt") {
       ++piece.uv_count;
-      parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, piece.uvs);
+      double w = 0.0;
+      if (parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, piece.uvs, w) == 3 && w != 0.0)
+        ++piece.uv_with_w;
     } else if (keyword == "vn") {
       ++piece.normal_count;
-      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals);
+      double last;
+      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals, last);
     } else if (!is_ignored_statement(keyword)) {
       piece.skipped.add(keyword, 1);
     }
@@ -322,11 +329,12 @@ PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
     mesh.N = to_matrix<VertexMatrix>(join(pieces, &ObjPiece::normals));
     mesh.face_normals = join(pieces, &ObjPiece::corner_normals);
   }
-  std::int64_t colored = 0;
+  std::int64_t colored = 0, uv_with_w = 0;
   bool any_alpha = false;
   SkippedStatements skipped;
   for (const ObjPiece& piece : pieces) {
     colored += piece.colored;
+    uv_with_w += piece.uv_with_w;
     any_alpha |= piece.any_alpha;
     for (const auto& [keyword, count] : piece.skipped.kinds) skipped.add(keyword, count);
     skipped.others += piece.skipped.others;
@@ -341,6 +349,9 @@ PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
                             std::to_string(vertex_count) +
                             " vertices have colours ('v x y z r g b'): colours not read");
   }
+  if (options.with_uv && uv_with_w > 0)
+    mesh.warnings.push_back(std::to_string(uv_with_w) +
+                            " texture coordinates have a third component w (3D textures): not read");
   for (const auto& [keyword, count] : skipped.kinds) {
     const char* geometry = skipped_geometry(keyword);
     mesh.warnings.push_back("skipped " + std::to_string(count) + " " +

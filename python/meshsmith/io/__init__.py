@@ -166,6 +166,15 @@ class MeshData:
         """``V, F = mesh``."""
         return iter((self.V, self.F))
 
+    def __repr__(self) -> str:
+        def shape(value):
+            if isinstance(value, Polygons):
+                return f"Polygons({len(value)})"
+            return f"{getattr(value, 'shape', '?')}"
+        parts = [f"{field.name}={shape(getattr(self, field.name))}" for field in fields(self)
+                 if getattr(self, field.name) is not None]
+        return f"MeshData({', '.join(parts)})"
+
     @property
     def attributes(self) -> list[str]:
         """Names of the attributes present: among "normals", "UV", "colors", "face_colors"."""
