@@ -226,3 +226,26 @@ def test_fuzz_mutated_glb(tmp_path, data):
         return
     assert np.all(np.isfinite(mesh.V)) and mesh.F.shape[1] == 3
     assert len(mesh.F) == 0 or (mesh.F.min() >= 0 and mesh.F.max() < len(mesh.V))
+
+
+def test_interleaved_strided_buffer_view_and_normalized_uvs(tmp_path):
+    """Positions and normals interleaved in one strided view (as Blender writes), uint16 UVs."""
+    P = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    N = np.array([[0, 0, 1], [0, 0.6, 0.8], [1, 0, 0]], np.float32)
+    interleaved = np.hstack([P, N]).astype(np.float32).tobytes()  # 24-byte records
+    uv = np.array([[0, 65535], [65535, 65535], [0, 0]], np.uint16).tobytes()  # 12 bytes
+    blob = interleaved + uv
+    document = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}]}],
+                "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 72, "byteStride": 24},
+                                {"buffer": 0, "byteOffset": 72, "byteLength": 12}],
+                "accessors": [{"bufferView": 0, "byteOffset": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                              {"bufferView": 0, "byteOffset": 12, "componentType": 5126, "count": 3, "type": "VEC3"},
+                              {"bufferView": 1, "componentType": 5123, "normalized": True, "count": 3, "type": "VEC2"}],
+                "buffers": [{"byteLength": len(blob)}]}
+    (tmp_path / "i.glb").write_bytes(glb(document, blob))
+    data = io.read_mesh(tmp_path / "i.glb", return_attributes=True)
+    np.testing.assert_array_equal(data.V, P)
+    np.testing.assert_array_equal(data.F, [[0, 1, 2]])  # no indices: consecutive triangles
+    np.testing.assert_array_equal(data.normals, N)
+    np.testing.assert_array_equal(data.UV, [[0, 0], [1, 0], [0, 1]])  # v flipped back to OBJ's
