@@ -59,6 +59,50 @@ def test_convert_keeps_the_mesh(sphere_file, tmp_path, suffix):
                        atol=tolerance, rtol=0)
 
 
+def test_convert_keeps_uvs_colours_and_polygons(tmp_path, data_dir):
+    spot = data_dir / "spot.obj"
+    if not spot.is_file():
+        pytest.skip("spot.obj is not in the shared data")
+    source = io.read_mesh(spot, return_attributes=True)
+    for suffix in (".obj", ".ply", ".glb"):
+        out = tmp_path / f"spot{suffix}"
+        result = run("convert", spot, out)
+        assert result.returncode == 0, result.stderr
+        assert "with UV" in result.stdout
+        back = io.read_mesh(out, return_attributes=True)
+        np.testing.assert_allclose(back.UV[back.F_uv], source.UV[source.F_uv], rtol=0,
+                                   atol=6e-8 if suffix == ".glb" else 0)
+    assert (tmp_path / "spot.obj").read_text().count("\nvt ") == 3225
+    # Quads and per-vertex colours through PLY → OFF → OBJ.
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    colors = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], float)
+    io.write_mesh(tmp_path / "q.ply", V, io.Polygons.from_list([[0, 1, 2, 3]]), colors=colors)
+    assert run("convert", tmp_path / "q.ply", tmp_path / "q.off").returncode == 0
+    assert run("convert", tmp_path / "q.off", tmp_path / "q.obj").returncode == 0
+    back = io.read_mesh(tmp_path / "q.obj", triangulate=False, return_attributes=True)
+    assert back.F.to_list() == [[0, 1, 2, 3]]
+    np.testing.assert_array_equal(back.colors, colors)
+
+
+def test_convert_refuses_to_drop_an_attribute_silently(tmp_path):
+    V, F = datasets.icosphere(1)
+    io.write_mesh(tmp_path / "uv.obj", V, F, UV=V[:, :2])
+    result = run("convert", tmp_path / "uv.obj", tmp_path / "uv.stl")
+    assert result.returncode == 1 and not (tmp_path / "uv.stl").exists()
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "cannot write UV" in result.stderr and "write OBJ, PLY, OFF or GLB" in result.stderr
+    assert "--drop uv" in result.stderr
+    result = run("convert", tmp_path / "uv.obj", tmp_path / "uv.stl", "--drop", "uv")
+    assert result.returncode == 0, result.stderr
+    assert "dropped uv" in result.stdout
+    np.testing.assert_allclose(io.read_mesh(tmp_path / "uv.stl")[0][io.read_mesh(tmp_path / "uv.stl")[1]],
+                               V.astype(np.float32)[F], atol=0)
+    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nfoo 1\nfoo 2\n")
+    result = run("convert", tmp_path / "odd.obj", tmp_path / "odd.ply")
+    assert result.returncode == 0
+    assert result.stderr.strip() == f"meshsmith: warning: {tmp_path / 'odd.obj'}: skipped 2 unknown 'foo' statements"
+
+
 def test_render_writes_a_png_of_the_requested_size(sphere_file, tmp_path):
     from PIL import Image
     out = tmp_path / "sphere.png"

@@ -76,8 +76,7 @@ RESULTS = {
                            "summary"]),
     "io.read_mesh": (lambda tmp: io.read_mesh(mesh_file(tmp)), ["V", "F"]),
     "io.read_mesh polygons": (lambda tmp: io.read_mesh(mesh_file(tmp), triangulate=False), ["V", "F"]),
-    "io.read_mesh_with_attributes": (lambda tmp: io.read_mesh_with_attributes(mesh_file(tmp)),
-                                     ["V", "F", "UV", "F_uv", "N", "F_normal"]),
+    "io.read_mesh attributes": (lambda tmp: io.read_mesh(mesh_file(tmp), return_attributes=True), ["V", "F"]),
     "io.read_points": (lambda tmp: io.read_points(points_file(tmp)), ["P", "N"]),
     "io.read_poly": (lambda tmp: io.read_poly(poly_file(tmp)), ["P", "segments", "holes"]),
     "topology.connected_components": (lambda tmp: topology.connected_components(disk()[1]),
@@ -280,8 +279,7 @@ def test_options_are_keyword_only_after_the_geometry():
 
 
 def test_io_takes_the_path_first_and_everything_else_the_geometry_first():
-    for function in (io.read_mesh, io.write_mesh, io.read_points, io.write_points, io.read_poly,
-                     io.read_mesh_with_attributes):
+    for function in (io.read_mesh, io.write_mesh, io.read_points, io.write_points, io.read_poly):
         assert next(iter(inspect.signature(function).parameters)) == "path"
     assert list(inspect.signature(render.render).parameters)[:3] == ["V", "F", "path"]
     assert list(inspect.signature(render.parametrization_picture).parameters)[:2] == ["result", "path"]
