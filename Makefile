@@ -4,7 +4,7 @@ PYTHON ?= python3
 SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml scripts/bootstrap.sh
 STAMP := build/.installed-$(subst /,_,$(PYTHON))
 
-.PHONY: setup demo test typecheck bench clean
+.PHONY: setup demo test typecheck bench wheel sdist test-wheel clean
 setup: $(STAMP)
 
 $(STAMP): $(SOURCES)
@@ -26,5 +26,19 @@ bench: setup
 	bash scripts/bootstrap.sh "$(PYTHON)" test,viz,bench
 	$(PYTHON) benchmarks/run_all.py $(CHAPTERS)
 
+# A manylinux wheel in dist/ with the Debian libraries it links copied in (auditwheel), built in
+# the same build directory as setup; `make test-wheel` installs it into a fresh venv under /tmp
+# and runs the whole suite against that install.
+wheel:
+	bash scripts/build_wheel.sh "$(PYTHON)"
+
+test-wheel: wheel
+	bash scripts/test_wheel.sh "$(PYTHON)"
+
+# dist/meshsmith-<version>.tar.gz, its contents checked; `make sdist SDIST_BUILD=--build` also
+# builds a wheel from it (cold, in a temporary directory).
+sdist:
+	bash scripts/build_sdist.sh "$(PYTHON)" $(SDIST_BUILD)
+
 clean:
-	rm -rf build demo-output
+	rm -rf build demo-output dist

@@ -68,7 +68,7 @@ def main() -> None:
     print("stretch_minimizing: stretch per iteration", np.array2string(result.stretch, precision=4))
     bench = Benchmark("parametrization", f"other maps and tools, {len(F)} faces", repeats=1,
                       reference="meshsmith cut_to_disk (torus)")
-    bench.time("meshsmith stretch_minimizing (5 iterations, mean-value)", lambda: P.stretch_minimizing(V, F, 5))
+    bench.time("meshsmith stretch_minimizing (5 iterations, mean-value)", lambda: P.stretch_minimizing(V, F, iterations=5))
     UV = P.harmonic(V, F)
     bench.time("meshsmith is_bijective", lambda: P.is_bijective(UV, F))
     VT, FT = datasets.torus(n_major=256, n_minor=128)

@@ -56,7 +56,7 @@ def main():
     case = f"ABF++ on a hemisphere cap, {len(V):,} V, {len(F):,} F"
     print(f"\n{case}: {convergence_note(V, F, 'abf++')}")
     bench = Benchmark("parametrization_abf", case, repeats=3)
-    bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, "abf++"))
+    bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, method="abf++"))
     bench.time("meshsmith lscm (for scale)", lambda: parametrization.lscm(V, F))
     if igl:
         boundary = igl.boundary_loop(F)
@@ -74,9 +74,9 @@ def main():
         case = f"ABF++ vs ABF, {label}, {len(V):,} V, {len(F):,} F"
         print(f"\n{case}: {convergence_note(V, F, 'abf++')}")
         bench = Benchmark("parametrization_abf", case, repeats=3)
-        bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, "abf++"))
+        bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, method="abf++"))
         if len(F) <= 10_000:   # camelhead: ~50 s per ABF run here (measured once), too long to repeat
-            bench.time("meshsmith abf (full KKT, LU)", lambda: parametrization.abf(V, F, "abf"))
+            bench.time("meshsmith abf (full KKT, LU)", lambda: parametrization.abf(V, F, method="abf"))
         bench.reference = "meshsmith abf++"
         bench.report()
 

@@ -58,13 +58,13 @@ def open3d_oriented(P: np.ndarray, N: np.ndarray, k: int = 16) -> np.ndarray:
 def main() -> None:
     P = noisy_sphere(1_000_000)
 
-    mine = mp.estimate_normals(P, 15)
+    mine = mp.estimate_normals(P, k=15)
     reference = scipy_numpy_normals(P)
     agreement = np.abs((mine * reference).sum(axis=1))
     print(f"meshsmith vs scipy+numpy normals: min |cos| = {agreement.min():.12f}")
 
     bench = Benchmark("points", "estimate_normals, 1M points, 16-point neighbourhoods", repeats=3)
-    bench.time("meshsmith", lambda: mp.estimate_normals(P, 15))
+    bench.time("meshsmith", lambda: mp.estimate_normals(P, k=15))
     bench.time("scipy cKDTree + numpy eigh", lambda: scipy_numpy_normals(P))
     if o3d is not None:
         bench.time("open3d estimate_normals", lambda: open3d_normals(P))
@@ -77,11 +77,11 @@ def main() -> None:
     bench.report()
 
     Q = noisy_sphere(100_000, seed=1)
-    N = mp.estimate_normals(Q, 15)
-    outward = (mp.orient_normals(Q, N, 16) * Q).sum(axis=1) > 0
+    N = mp.estimate_normals(Q, k=15)
+    outward = (mp.orient_normals(Q, N, k=16) * Q).sum(axis=1) > 0
     print(f"meshsmith orient_normals: {outward.mean():.2%} outward")
     bench = Benchmark("points", "orient_normals, 100k points, k=16", repeats=3)
-    bench.time("meshsmith", lambda: mp.orient_normals(Q, N, 16))
+    bench.time("meshsmith", lambda: mp.orient_normals(Q, N, k=16))
     if o3d is not None:
         outward = (open3d_oriented(Q, N) * Q).sum(axis=1) > 0
         print(f"open3d orient_normals_consistent_tangent_plane: {max(outward.mean(), 1 - outward.mean()):.2%}"

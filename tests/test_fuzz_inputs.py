@@ -55,6 +55,8 @@ DISK_LOOP = np.array([13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24], dtype=np.
 _angle = 2 * np.pi * np.arange(len(DISK_LOOP)) / len(DISK_LOOP)
 DISK_LOOP_UV = np.stack([np.cos(_angle), np.sin(_angle)], 1)
 DISK_UV = DISK_V[:, :2].copy()                             # the flat disk is its own map
+UNREFERENCED_V = np.vstack([SPHERE_V[:5], [[9.0, 9.0, 9.0]], SPHERE_V[5:]])  # vertex 5 unused
+UNREFERENCED_V_FACES = np.where(SPHERE_F >= 5, SPHERE_F + 1, SPHERE_F)
 POINTS, NORMALS = datasets.sphere_points(60, seed=1)
 QUERIES = 1.1 * POINTS[:5]
 PLANAR = np.random.default_rng(0).random((30, 2))
@@ -105,9 +107,8 @@ VALID_BY_NAME = {
 VALID = {
     "core.mesh_defects": {},
     "io.read_mesh": lambda f: {"path": f["obj"]},
-    "io.read_mesh_with_attributes": lambda f: {"path": f["obj"]},
     "io.write_mesh": lambda f: {"path": f["out"] + ".obj", "UV": SPHERE_V[:, :2].copy(), "F_uv": SPHERE_F,
-                                "N": SPHERE_V, "F_normal": SPHERE_F},
+                                "normals": SPHERE_V, "F_normal": SPHERE_F},
     "io.read_points": lambda f: {"path": f["xyz"]},
     "io.write_points": lambda f: {"path": f["out"] + ".ply"},
     "io.read_poly": lambda f: {"path": f["poly"]},
@@ -175,6 +176,12 @@ VALID = {
     "parametrization.uv_from_angles": {"angles": _disk_angles(), "n_vertices": 25,
                                        "pinned": np.array([DISK_F[0, 0], DISK_F[0, 1]]),
                                        "pinned_uv": np.array([[0.0, 0.0], [1.0, 0.0]])},
+    "repair.ReferencedMesh.to_input_rows": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
+                                            "values": SPHERE_V[:, :2].copy()},
+    "repair.ReferencedMesh.to_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
+                                               "indices": np.array([0, 5, 41])},
+    "repair.ReferencedMesh.from_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
+                                                 "indices": np.array([0, 6, 42])},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},
@@ -190,7 +197,11 @@ VALID = {
 NAN_ALLOWED: dict[str, tuple] = {
     "geometry.triangle_distortion": ("vertex_isometric", "vertex_conformal", "vertex_area", "vertex_stretch_l2",
                                      "vertex_stretch_linf"),
+    "repair.ReferencedMesh.to_input_rows": ("result",),   # `fill`, NaN by default, in the unreferenced rows
 }
+#: Functions that take arrays of any shape (their dimension and column variants are valid input).
+ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
+             "repair.ReferencedMesh.from_input_indices"}
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.
@@ -217,8 +228,9 @@ def public_targets() -> dict[str, object]:
         assert hasattr(module, "__all__"), f"meshsmith.{chapter} has no __all__"
         for name in module.__all__:
             obj = getattr(module, name)
-            if not callable(obj):
-                continue  # constants
+            if not (inspect.isfunction(obj) or inspect.isclass(obj)) or \
+                    (inspect.isclass(obj) and issubclass(obj, BaseException)):
+                continue  # constants, type aliases (FloatArray, ...), exceptions and warnings
             if not is_data_class(obj):
                 targets[f"{chapter}.{name}"] = obj
             if not inspect.isclass(obj):
@@ -228,8 +240,8 @@ def public_targets() -> dict[str, object]:
                 if method_name.startswith("_") or not (inspect.isfunction(method) or inspect.ismethod(method)):
                     continue  # private, properties
                 takes_arguments = len(inspect.signature(method).parameters) > inspect.isfunction(method)
-                if is_data_class(obj) and not takes_arguments and target not in VALID:
-                    continue  # a result's accessors (summary, as_dict) read its own fields
+                if is_data_class(obj) and not (target in VALID or (takes_arguments and not inspect.isfunction(method))):
+                    continue  # a result's own methods (summary, lines) read its fields; classmethods are calls
                 targets[target] = method
     return targets
 
@@ -435,6 +447,8 @@ def build_calls(profile: Profile, folder_files) -> tuple[list[worker.Call], list
                     bad[tuple(rng.integers(0, n) for n in array.shape)] = mesh_vertex_count
                     variants.append(("index n", bad, REJECT))
                 for kind, bad_value, expected in variants:
+                    if target in ANY_SHAPE and (kind in ("1-d", "2-d", "3-d", "0-d") or kind.endswith(" columns")):
+                        expected = EITHER
                     if part is not None:
                         bad_value = tuple(bad_value if k == part else v for k, v in enumerate(value))
                         kind = f"[{part}] {kind}"
@@ -497,8 +511,8 @@ def run_in_children(calls: list[worker.Call], call_timeout: float = CALL_TIMEOUT
                         started = None
         code = child.wait()
         if started is not None and started not in outcomes:
-            outcomes[started] = {"signal": -code if code < 0 else code,
-                                 "stderr": stderr.decode(errors="replace")[-1500:]}
+            key = "signal" if code < 0 else "exit"
+            outcomes[started] = {key: abs(code), "stderr": stderr.decode(errors="replace")[-1500:]}
         elif code != 0 and started is None and not outcomes:
             pytest.fail(f"the fuzz worker failed before its first call:\n{stderr.decode(errors='replace')[-3000:]}")
         done = set(outcomes)
@@ -511,6 +525,8 @@ def judge(case: Case, outcome: dict) -> str | None:
     if "signal" in outcome:
         frames = [line.strip() for line in outcome["stderr"].splitlines() if line.strip().startswith("File ")]
         return f"killed by signal {outcome['signal']}" + (f" in {frames[0]}" if frames else "")
+    if "exit" in outcome:
+        return f"the worker exited with code {outcome['exit']} during the call:\n{outcome['stderr'][-600:]}"
     if "hang" in outcome:
         return f"no answer within {outcome['hang']:.0f} s (hang)"
     if "setup_error" in outcome:
@@ -548,6 +564,8 @@ def judge(case: Case, outcome: dict) -> str | None:
             return None
         return f"{problem} (expected InputError, SolverError or a result without NaN)"
     # SAME
+    if outcome.get("reference_error"):
+        return f"the valid call failed: {outcome['reference_error']}"
     if not returned_well:
         return f"{problem} (expected the valid call's result)"
     if outcome.get("differs"):
@@ -620,8 +638,8 @@ def test_a_ragged_list_or_a_tuple_of_arrays_is_an_input_error_naming_the_argumen
     V, F = SPHERE_V, SPHERE_F
     with pytest.raises(meshsmith.InputError, match=r"^V is not an array of numbers \(list that numpy cannot"):
         meshsmith.geometry.face_areas([[0, 0, 0], [1, 1]], F)
-    curvature = meshsmith.geometry.mean_curvature(V, F)  # a tuple (H, Hn)
-    with pytest.raises(meshsmith.InputError, match=r"^scalar is not an array of numbers \(tuple"):
+    curvature = meshsmith.geometry.mean_curvature(V, F)  # a named tuple (H, Hn)
+    with pytest.raises(meshsmith.InputError, match=r"^scalar is not an array of numbers \(MeanCurvature that numpy cannot"):
         meshsmith.render.render(V, F, size=(40, 30), scalar=curvature)
     with pytest.raises(meshsmith.InputError, match=r"^uv is not an array of numbers"):
         meshsmith.render.render(V, F, size=(40, 30), uv=[[0, 0]] * 41 + [[0]])

@@ -85,7 +85,7 @@ def test_transparent_background_gives_coverage_alpha(sphere):
 def test_orthographic_sphere_silhouette_matches_the_analytic_disc(sphere):
     V, F = sphere
     width, height = 400, 300
-    camera = R.frame_camera(V, "front", size=(width, height), orthographic=True)
+    camera = R.frame_camera(V, view="front", size=(width, height), orthographic=True)
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent")
     coverage = image[..., 3].astype(float).sum() / 255.0
     pixels_per_unit = height / camera.ortho_height
@@ -96,7 +96,7 @@ def test_orthographic_sphere_silhouette_matches_the_analytic_disc(sphere):
 def test_perspective_sphere_silhouette_is_a_centred_disc_of_the_analytic_size(sphere):
     V, F = sphere
     width, height = 400, 300
-    camera = R.frame_camera(V, "front", size=(width, height))
+    camera = R.frame_camera(V, view="front", size=(width, height))
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent")
     alpha = image[..., 3].astype(float) / 255.0
     distance = np.linalg.norm(np.subtract(camera.eye, camera.target))
@@ -505,7 +505,7 @@ def test_silhouette_bounding_box_matches_an_independent_projection():
     V, F = icosphere(3)
     V = V * np.array([1.5, 0.7, 1.0]) + 0.2 * np.sin(3 * V[:, [1, 2, 0]])  # a lumpy blob
     width, height = 320, 240
-    camera = R.frame_camera(V, (30, 20), size=(width, height))
+    camera = R.frame_camera(V, view=(30, 20), size=(width, height))
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
                      supersample=4)
     forward = np.subtract(camera.target, camera.eye)
@@ -540,7 +540,7 @@ def test_thicker_wireframe_lines_cover_more_pixels():
 def test_no_cracks_between_adjacent_triangles():
     V, F = icosphere(5)  # 20480 small triangles sharing edges
     width, height = 300, 300
-    camera = R.frame_camera(V, (17.0, 11.0), size=(width, height), orthographic=True)
+    camera = R.frame_camera(V, view=(17.0, 11.0), size=(width, height), orthographic=True)
     for supersample in (1, 2):
         image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
                          supersample=supersample)

@@ -102,7 +102,7 @@ def test_power_diagram_3d_cells_hold_their_grid_points_and_tile_the_box():
     P = rng.random((40, 3))
     w = 0.03 * rng.random(40)
     bounds = (-0.1, -0.1, 1.1, 1.1, -0.1, 1.1)
-    diagram = tess.power_diagram(P, w, bounds)
+    diagram = tess.power_diagram(P, w, bounds=bounds)
     assert diagram.triangulation.shape[1] == 4
     volumes = []
     for vertices, faces in diagram.cells:

@@ -63,6 +63,13 @@ void bind_core(py::module_& m) {
 
   // The argument conversions of the bindings, for the checks the Python modules make themselves
   // (meshsmith._arguments): one rule, one set of messages.
+  m.def("numeric_array", [](const py::object& value, const std::string& name, const std::string& elements) {
+    return as_numeric_array(value, name.c_str(),
+                            parse_choice<Elements>(elements, "elements", {{"real", Elements::real},
+                                                                          {"index", Elements::index},
+                                                                          {"flag", Elements::flag}}));
+  }, py::arg("value"), py::arg("name"), py::arg("elements"),
+  "value as a numpy array of any shape whose dtype is `elements` ('real', 'index' or 'flag'), not converted.");
   m.def("real_array", [](const py::object& value, const std::string& name, const py::object& columns) -> py::array {
     if (columns.is_none()) return as_real_vector(value, name.c_str());
     const auto pair = py::isinstance<py::tuple>(columns) ? columns.cast<std::pair<Eigen::Index, Eigen::Index>>()

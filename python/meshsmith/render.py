@@ -20,18 +20,44 @@ the up axis towards +x (the right view), elevation lifts it (the top view looks 
 from __future__ import annotations
 
 import math
+import os
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Sequence
 
 import numpy as np
 
 from . import _arguments
 from ._core import InputError
 from ._core import render as _core
+from ._deprecation import positional_options
+from ._typing import ArrayLike, FloatArray, PathLike
 
-__all__ = ["VIEWS", "COLORMAPS", "Camera", "view_angles", "frame_camera", "colormap", "scalar_range", "render",
-           "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
+if TYPE_CHECKING:
+    from .parametrization import Parametrization
+
+__all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "ViewAngles", "ScalarRange", "view_angles", "frame_camera", "colormap", "scalar_range",
+           "render", "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
+
+#: A view: a name from :data:`VIEWS` or an (azimuth, elevation) pair in degrees.
+View = str | tuple[float, float]
+#: A colour: a name, "#rrggbb", or an RGB triple of 0-255 ints or 0-1 floats.
+Color = str | Sequence[float]
+
+
+class ViewAngles(NamedTuple):
+    """Result of :func:`view_angles`; unpacks as ``azimuth, elevation`` (degrees)."""
+
+    azimuth: float
+    elevation: float
+
+
+class ScalarRange(NamedTuple):
+    """Result of :func:`scalar_range`; unpacks as ``low, high``."""
+
+    low: float
+    high: float
 
 #: Named views as (azimuth, elevation) in degrees.
 VIEWS: dict[str, tuple[float, float]] = {
@@ -71,7 +97,7 @@ class Camera:
     ortho_height: float = 2.0
 
 
-def view_angles(view) -> tuple[float, float]:
+def view_angles(view: View) -> ViewAngles:
     """(azimuth, elevation) in degrees of a view name from :data:`VIEWS` or an (az, el) pair.
 
     Raises InputError for an unknown name or a pair that is not two finite numbers.
@@ -80,7 +106,7 @@ def view_angles(view) -> tuple[float, float]:
         if view not in VIEWS:
             raise InputError(f"unknown view '{view}': use one of {', '.join(VIEWS)} "
                              "or an (azimuth, elevation) pair in degrees")
-        return VIEWS[view]
+        return ViewAngles(*VIEWS[view])
     try:
         azimuth, elevation = (float(a) for a in view)
     except (TypeError, ValueError):
@@ -88,11 +114,12 @@ def view_angles(view) -> tuple[float, float]:
                          "nor an (azimuth, elevation) pair") from None
     if not (math.isfinite(azimuth) and math.isfinite(elevation)):
         raise InputError(f"view {view!r}: azimuth and elevation must be finite")
-    return azimuth, elevation
+    return ViewAngles(azimuth, elevation)
 
 
-def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
-                 orthographic=False, margin=0.06) -> Camera:
+@positional_options("view")
+def frame_camera(V: ArrayLike, *, view: View = "three-quarter", size: tuple[int, int] = (800, 600),
+                 up: str = "y", fov: float = 30.0, orthographic: bool = False, margin: float = 0.06) -> Camera:
     """The camera that frames the vertices V from a view, as tightly as `margin` allows.
 
     V: (n, 3) float array. view: a name from :data:`VIEWS` or (azimuth, elevation) in degrees.
@@ -112,12 +139,12 @@ def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
                   ortho_height=found["ortho_height"])
 
 
-def colormap(name: str, steps: int = 256) -> np.ndarray:
+def colormap(name: str, steps: int = 256) -> FloatArray:
     """(steps, 3) float array: sRGB colours in [0, 1] of colormap `name` (viridis, magma, coolwarm)."""
     return _core.colormap_table(name, steps)
 
 
-def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
+def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str = "viridis") -> ScalarRange:
     """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
 
     For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
@@ -127,18 +154,22 @@ def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[floa
     return _robust_range(scalar, vertex_count, cmap)
 
 
-def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
+def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRange:
     diverging = _core.colormap_is_diverging(cmap)
-    return tuple(_core.scalar_range(scalar, vertex_count, diverging))
+    low, high = _core.scalar_range(scalar, vertex_count, diverging)
+    return ScalarRange(float(low), float(high))
 
 
-def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
-           camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
-           scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
-           wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
-           crease_angle=60.0, lighting=True,
-           color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
-           supersample=3) -> np.ndarray:
+def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),
+           view: View = "three-quarter", views: Sequence[View] | None = None, columns: int | None = None,
+           camera: Camera | None = None, up: str = "y", projection: str = "perspective", fov: float = 30.0,
+           scalar: ArrayLike | None = None, cmap: str = "viridis", scalar_range: tuple[float, float] | None = None,
+           scalar_label: str | None = None, colorbar: bool | None = None,
+           wireframe: bool | Literal["auto"] = False, wireframe_width: float = 1.0, uv: ArrayLike | None = None,
+           checker_size: float | None = None, flat: bool = False, crease_angle: float = 60.0,
+           lighting: bool = True, color: Sequence[float] = _FRONT_COLOR, back_color: Sequence[float] = _BACK_COLOR,
+           title: str | None = None, background: Color | tuple[Color, Color] = "gradient",
+           supersample: int = 3) -> np.ndarray:
     """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
 
     V: (n, 3) float array of vertex positions. F: (m, 3) integer array of triangles.
@@ -248,7 +279,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         y1 = title_height + (row + 1) * grid_height // rows
         panel_width, panel_height = x1 - x0, y1 - y0
         cam = camera if camera is not None else frame_camera(
-            V, (azimuth, elevation), size=(panel_width, panel_height), up=up, fov=fov,
+            V, view=(azimuth, elevation), size=(panel_width, panel_height), up=up, fov=fov,
             orthographic=projection == "orthographic")
         top = _gradient_at(gradient, y0, total_height)
         bottom = _gradient_at(gradient, y1 - 1, total_height)
@@ -270,9 +301,11 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     return canvas
 
 
-def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="viridis",
-                     scalar_range=None, scalar_label=None, title=None, background="white",
-                     supersample=3) -> np.ndarray:
+def render_uv_layout(UV: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 800),
+                     scalar: ArrayLike | None = None, cmap: str = "viridis",
+                     scalar_range: tuple[float, float] | None = None, scalar_label: str | None = None,
+                     title: str | None = None, background: Color | tuple[Color, Color] = "white",
+                     supersample: int = 3) -> np.ndarray:
     """Draw a 2D parametrization: the triangles of F laid out at their texture coordinates.
 
     UV: (n, 2) float array of per-vertex texture coordinates. F: (m, 3) integer triangles.
@@ -291,8 +324,11 @@ def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="vi
                   supersample=supersample)
 
 
-def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygons=None,
-                highlight=None, size=(800, 800), title=None, supersample=3) -> np.ndarray:
+def plot_planar(path: PathLike | None = None, *, points: ArrayLike | None = None,
+                triangles: tuple[ArrayLike, ArrayLike] | None = None,
+                segments: tuple[ArrayLike, ArrayLike] | None = None, polygons: Sequence[FloatArray] | None = None,
+                highlight: ArrayLike | None = None, size: tuple[int, int] = (800, 800), title: str | None = None,
+                supersample: int = 3) -> np.ndarray:
     """Draw planar (2D) geometry: triangulations, curves, cells and points, for the tessellation
     chapter's pictures.
 
@@ -308,10 +344,10 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     width, height = _check_size(size)
     scale_factor = _arguments.integer(supersample, "supersample", 1, 4)
 
-    def planar(array, name):
+    def planar(array: ArrayLike, name: str) -> FloatArray:
         return _arguments.finite(_arguments.real_array(array, name, 2), name)
 
-    def pair(value, name):
+    def pair(value: Any, name: str) -> tuple[Any, Any]:
         try:
             first, second = value
         except (TypeError, ValueError):
@@ -352,7 +388,7 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     scale = float(np.min(usable / extent))
     offset = np.array([margin, title_height + margin]) + 0.5 * (usable - extent * scale)
 
-    def to_pixels(xy):
+    def to_pixels(xy: FloatArray) -> FloatArray:
         pixel = (xy - low) * scale + offset
         pixel[:, 1] = height - pixel[:, 1] + title_height  # y up
         return pixel * scale_factor
@@ -392,21 +428,32 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     return canvas
 
 
-def parametrization_picture(path, result, title: str) -> None:
-    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard."""
+def parametrization_picture(result: Parametrization, path: PathLike, title: str) -> None:
+    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard.
+
+    result: a :class:`meshsmith.parametrization.Parametrization`; path: the PNG to write; title:
+    drawn over the surface. The 0.1 order ``(path, result, title)`` still works, with a
+    DeprecationWarning.
+    """
+    if isinstance(result, (str, os.PathLike)):
+        warnings.warn("parametrization_picture(): pass the result first, then the path (since meshsmith 0.2.0)",
+                      DeprecationWarning, stacklevel=2)
+        result, path = path, result  # type: ignore[assignment]
     corners = result.uv[result.F]  # per corner, so seams cut by cut_to_disk show in the texture
     V, F = (result.cut.V, result.F) if result.cut is not None else (result.V, result.F)
-    layout = render_uv_layout(result.uv, result.F, size=(640, 640), scalar=result.distortion.vertex_conformal,
+    uv = np.where(np.isnan(result.uv), corners[0, 0], result.uv)  # unreferenced vertices' NaN rows: out of the way
+    conformal = np.nan_to_num(result.distortion.vertex_conformal, nan=1.0)  # NaN: a vertex with no face
+    layout = render_uv_layout(uv, result.F, size=(640, 640), scalar=conformal,
                                      scalar_range=(1.0, 2.0), scalar_label="angle distortion σ1/σ2",
                                      title=f"UV layout ({result.method})")
-    checker = float(np.ptp(result.uv, axis=0).max()) / 24
+    checker = float(np.ptp(uv, axis=0).max()) / 24
     surface = render(V, F, uv=corners, checker_size=checker, size=(640, 640), title=title)
     save_png(np.concatenate([layout, surface], axis=1), path)
 
 
 # ---- helpers ----------------------------------------------------------------------------------
 
-def _check_size(size) -> tuple[int, int]:
+def _check_size(size: Any) -> tuple[int, int]:
     try:
         width, height = size
     except (TypeError, ValueError):
@@ -415,7 +462,7 @@ def _check_size(size) -> tuple[int, int]:
             _arguments.integer(height, "size[1] (height)", 1, _core.max_image_side))
 
 
-def _check_range(value) -> tuple[float, float]:
+def _check_range(value: Any) -> tuple[float, float]:
     try:
         low, high = (float(v) for v in value)
     except (TypeError, ValueError):
@@ -425,14 +472,14 @@ def _check_range(value) -> tuple[float, float]:
     return low, high
 
 
-def _validated_counts(V, F) -> tuple[int, int]:
+def _validated_counts(V: Any, F: Any) -> tuple[int, int]:
     """(#V, #F) after the core's checks of the mesh (dtype, shape, NaN/Inf, index range)."""
     from ._core import core as _core_checks
     _core_checks.validate_mesh(V, F)
     return len(V), len(F)
 
 
-def _unit_color(value, name) -> tuple[float, float, float]:
+def _unit_color(value: Any, name: str) -> tuple[float, ...]:
     try:
         rgb = tuple(float(c) for c in value)
     except (TypeError, ValueError):
@@ -442,8 +489,9 @@ def _unit_color(value, name) -> tuple[float, float, float]:
     return rgb
 
 
-def _parse_color(value) -> tuple[float, float, float]:
+def _parse_color(value: Any) -> tuple[float, ...]:
     """A colour name, '#rrggbb', or a triple of 0-255 ints / 0-1 floats → sRGB in [0, 1]."""
+    rgb: tuple[Any, ...]
     if isinstance(value, str):
         named = {"white": (255, 255, 255), "black": (0, 0, 0)}
         if value in named:
@@ -473,7 +521,7 @@ def _parse_color(value) -> tuple[float, float, float]:
     return rgb
 
 
-def _background(background):
+def _background(background: Any) -> tuple[tuple[Any, Any], bool]:
     """(gradient (top, bottom) in [0, 1], transparent?) for the `background` argument."""
     if isinstance(background, str) and background == "gradient":
         return _GRADIENT, False
@@ -486,13 +534,13 @@ def _background(background):
     return (color, color), False
 
 
-def _gradient_at(gradient, row: int, total_rows: int) -> tuple[float, float, float]:
+def _gradient_at(gradient: Any, row: int, total_rows: int) -> tuple[float, ...]:
     t = row / (total_rows - 1) if total_rows > 1 else 0.0
     top, bottom = np.asarray(gradient[0]), np.asarray(gradient[1])
     return tuple(float(c) for c in (1.0 - t) * top + t * bottom)
 
 
-def _background_canvas(width, height, gradient, transparent) -> np.ndarray:
+def _background_canvas(width: int, height: int, gradient: Any, transparent: bool) -> np.ndarray:
     if transparent:
         return np.zeros((height, width, 4), dtype=np.uint8)
     t = np.linspace(0.0, 1.0, height)[:, None] if height > 1 else np.zeros((1, 1))
@@ -505,7 +553,7 @@ _PILLOW_MISSING = ("meshsmith.render needs Pillow for PNG files, titles and colo
                    "pip install 'meshsmith[viz]' (or pip install pillow)")
 
 
-def _pillow():
+def _pillow() -> tuple[Any, Any, Any]:
     try:
         from PIL import Image, ImageDraw, ImageFont
     except ImportError:
@@ -513,7 +561,7 @@ def _pillow():
     return Image, ImageDraw, ImageFont
 
 
-def _font(size: int):
+def _font(size: int) -> Any:
     _, _, ImageFont = _pillow()
     for name in ("DejaVuSans.ttf", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
                  "Arial.ttf", "LiberationSans-Regular.ttf"):
@@ -542,7 +590,8 @@ def _format_ticks(values: Sequence[float]) -> list[str]:
     return ["0" if v == 0.0 else f"{v:.{min(digits, 6)}f}" for v in values]
 
 
-def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> np.ndarray:
+def _annotate(canvas: np.ndarray, *, title: str | None, title_height: int, labels: list[Any], colorbar: Any,
+              transparent: bool) -> np.ndarray:
     """Title, view labels and the colour bar, drawn with Pillow."""
     Image, ImageDraw, _ = _pillow()
     image = Image.fromarray(canvas, "RGBA" if transparent else "RGB")
@@ -603,7 +652,7 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
                       fill=text_fill, font=label_font, anchor="ms")
 
 
-def save_png(canvas: np.ndarray, path) -> None:
+def save_png(canvas: np.ndarray, path: PathLike) -> None:
     """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
 
     Raises InputError for a canvas that is not such an array, or when the folder does not exist."""

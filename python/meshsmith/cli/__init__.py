@@ -1,9 +1,10 @@
 """The `meshsmith` command line: one subcommand per task, mirroring the chapters.
 
     meshsmith info FILE
+    meshsmith clean IN -o OUT [--merge-tolerance D] [--min-component-faces N] [--no-orient] ...
     meshsmith convert IN OUT [--binary | --ascii]
     meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
-    meshsmith curvature IN --kind mean|gaussian|k1|k2 -o out.png|out.npy
+    meshsmith curvature IN --kind mean|gaussian|k1|k2 [--pointwise] -o out.png|out.npy
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
     meshsmith triangulate IN.poly --min-angle 30 [--max-area A] -o OUT.obj [--picture P.png]
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT
@@ -33,6 +34,7 @@ from . import (
     parametrization,
     points,
     render,
+    repair,
     tessellation,
     topology,
 )
@@ -41,7 +43,7 @@ from .common import ProgressBar
 __all__ = ["main", "build_parser", "ProgressBar", "CHAPTERS"]
 
 #: The chapters' command modules, in the order their commands appear in ``meshsmith --help``.
-CHAPTERS = (topology, io, render, geometry, points, tessellation, decimation, parametrization, demo)
+CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, decimation, parametrization, demo)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import sys
 import time
+from typing import TextIO
 
 from .. import io
+from ..core import Mesh
 
 
 class ProgressBar:
@@ -13,7 +15,7 @@ class ProgressBar:
     Draws only when stderr is a terminal (or `force`), so logs and pipes stay clean.
     """
 
-    def __init__(self, width: int = 30, force: bool = False, stream=None):
+    def __init__(self, width: int = 30, force: bool = False, stream: TextIO | None = None) -> None:
         self.stream = stream or sys.stderr
         self.enabled = force or self.stream.isatty()
         self.width, self.start, self.last_stage = width, time.perf_counter(), None
@@ -30,5 +32,5 @@ class ProgressBar:
         return True
 
 
-def read_mesh(path: str):
+def read_mesh(path: str) -> Mesh:
     return io.read_mesh(path)

@@ -1,20 +1,22 @@
 """`meshsmith decimate|lod`: decimation and progressive meshes (§4)."""
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
 from .. import InputError, decimation, geometry, io
 from .common import ProgressBar
 
 
-def _relative_hausdorff(V0, F0, V1, F1) -> tuple[float, float]:
+def _relative_hausdorff(V0: np.ndarray, F0: np.ndarray, V1: np.ndarray, F1: np.ndarray) -> tuple[float, float]:
     """Symmetric Hausdorff distance between two meshes and its ratio to the bounding-box diagonal."""
     distance = float(geometry.hausdorff_distance(V1, F1, V0, F0))
     diagonal = float(np.linalg.norm(V0.max(axis=0) - V0.min(axis=0)))
     return distance, (distance / diagonal if diagonal > 0 else 0.0)
 
 
-def command_decimate(args) -> int:
+def command_decimate(args: argparse.Namespace) -> int:
     V, F = io.read_mesh(args.input)
     progress = ProgressBar()
     if args.method == "cluster":
@@ -54,7 +56,7 @@ def command_decimate(args) -> int:
     return 0
 
 
-def command_lod(args) -> int:
+def command_lod(args: argparse.Namespace) -> int:
     pm = decimation.ProgressiveMesh.load(args.input)
     V, F = pm.at(args.faces)
     io.write_mesh(args.output, V, F)
@@ -64,7 +66,7 @@ def command_lod(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     decimate = commands.add_parser("decimate", help="reduce the number of triangles (QEM or clustering)",
                                    description="Decimate a mesh (§4.1-4.3): greedy QEM edge collapses (default) or "

@@ -1,6 +1,7 @@
 """`meshsmith curvature`: per-vertex curvature as a picture or values (§1.2.4)."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -11,21 +12,30 @@ from .common import read_mesh
 CURVATURE_KINDS = ("mean", "gaussian", "k1", "k2")
 
 
-def curvature_field(kind: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, str]:
-    """Per-vertex curvature of the given kind (pointwise, i.e. per unit area) and its label."""
+def curvature_field(kind: str, V: np.ndarray, F: np.ndarray, *, pointwise: bool = False) -> tuple[np.ndarray, str]:
+    """Per-vertex curvature of the given kind, the same quantity as the API's default, and its label.
+
+    mean, k1, k2: per unit length (1/r on a sphere of radius r), as :func:`geometry.mean_curvature`
+    and :func:`geometry.principal_curvatures`. gaussian: the integrated angle defect in radians, as
+    :func:`geometry.gaussian_curvature`; with ``pointwise`` divided by the Voronoi area (1/length²).
+    """
+    if pointwise and kind != "gaussian":
+        raise InputError(f"--pointwise applies to --kind gaussian only: {kind} is per unit length already")
     if kind == "mean":
-        return geometry.mean_curvature(V, F)[0], "mean curvature H"
+        return geometry.mean_curvature(V, F).H, "mean curvature H (1/length)"
     if kind == "gaussian":
-        return geometry.gaussian_curvature(V, F, pointwise=True), "Gaussian curvature K"
+        if pointwise:
+            return geometry.gaussian_curvature(V, F, pointwise=True), "Gaussian curvature K (1/length²)"
+        return geometry.gaussian_curvature(V, F), "integrated Gaussian curvature (angle defect, radians)"
     if kind in ("k1", "k2"):
         k1, k2, _, _ = geometry.principal_curvatures(V, F)
         return (k1, "max principal curvature k1") if kind == "k1" else (k2, "min principal curvature k2")
     raise InputError(f"unknown curvature kind '{kind}': use {', '.join(CURVATURE_KINDS)}")
 
 
-def command_curvature(args) -> int:
+def command_curvature(args: argparse.Namespace) -> int:
     V, F = read_mesh(args.input)
-    values, label = curvature_field(args.kind, V, F)
+    values, label = curvature_field(args.kind, V, F, pointwise=args.pointwise)
     output = Path(args.output)
     if output.suffix.lower() == ".npy":
         np.save(output, values)
@@ -39,15 +49,21 @@ def command_curvature(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     curvature = commands.add_parser("curvature", help="per-vertex curvature as a picture or values",
-                                    description="Per-vertex curvature (§1.2.4): mean (cotan Laplacian), "
-                                                "Gaussian (angle defect per Voronoi area) or the principal "
-                                                "curvatures k1 >= k2 (quadric fit). Writes a coloured picture "
-                                                "(.png) or the values (.npy).")
+                                    description="Per-vertex curvature (§1.2.4), the same values as the Python "
+                                                "API's defaults: mean (cotan Laplacian, 1/length), Gaussian "
+                                                "(the integrated angle defect 2π − Σθ in radians, as "
+                                                "geometry.gaussian_curvature; --pointwise divides it by the "
+                                                "Voronoi area: 1/length²) or the principal curvatures k1 >= k2 "
+                                                "(quadric fit, 1/length). Writes a coloured picture (.png) or "
+                                                "the values (.npy).")
     curvature.add_argument("input")
     curvature.add_argument("--kind", choices=CURVATURE_KINDS, default="mean")
+    curvature.add_argument("--pointwise", action="store_true",
+                           help="gaussian only: curvature per unit area (1/length²) instead of the "
+                                "integrated angle defect (radians)")
     curvature.add_argument("-o", "--output", required=True, help="out.png or out.npy")
     curvature.add_argument("--width", type=int, default=800)
     curvature.add_argument("--height", type=int, default=600)

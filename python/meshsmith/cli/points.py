@@ -1,11 +1,13 @@
 """`meshsmith normals`: point-cloud normals (§2.2)."""
 from __future__ import annotations
 
+import argparse
+
 from .. import io, points
 from .common import ProgressBar
 
 
-def command_normals(args) -> int:
+def command_normals(args: argparse.Namespace) -> int:
     P, _ = io.read_points(args.input)
     progress = ProgressBar()
     N = points.estimate_normals(P, k=args.k, radius=args.radius, progress=progress)
@@ -16,7 +18,7 @@ def command_normals(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     normals = commands.add_parser("normals", help="estimate (and orient) point-cloud normals",
                                   description="Estimate normals of a point cloud by PCA of each point's "

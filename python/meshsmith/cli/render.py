@@ -1,6 +1,7 @@
 """`meshsmith render`: PNG pictures of a mesh."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +27,7 @@ def scalar_field(name: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, s
     raise InputError(f"unknown scalar '{name}': use x, y, z, valence or a .npy file of per-vertex values")
 
 
-def command_render(args) -> int:
+def command_render(args: argparse.Namespace) -> int:
     V, F = read_mesh(args.input)
     options = dict(size=(args.width, args.height), wireframe=args.wireframe, flat=args.flat)
     if args.scalar:
@@ -39,7 +40,7 @@ def command_render(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     render = commands.add_parser("render", help="render a mesh to a PNG picture",
                                  description="Render a shaded picture of a mesh, optionally coloured by a scalar.")

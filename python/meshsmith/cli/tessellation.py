@@ -1,6 +1,7 @@
 """`meshsmith triangulate|voronoi|crust|power`: planar tessellation and Voronoi filtering (§2.1)."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -9,7 +10,7 @@ from .. import InputError, io, render, tessellation
 from .common import ProgressBar
 
 
-def read_planar(path: str):
+def read_planar(path: str) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
     """Planar input of the tessellation commands: a Triangle ``.poly`` file (vertices, segments,
     holes), or a text file of ``x y`` or ``x y w`` lines (w: a weight, used by ``power``).
     Returns (P (n, 2), segments or None, holes or None, weights or None)."""
@@ -36,7 +37,7 @@ def _write_planar_mesh(path: str, V2: np.ndarray, F: np.ndarray) -> None:
         io.write_mesh(path, np.column_stack([V2, np.zeros(len(V2))]), F)
 
 
-def command_triangulate(args) -> int:
+def command_triangulate(args: argparse.Namespace) -> int:
     P, segments, holes, _ = read_planar(args.input)
     # Without segments (a plain point set) the domain is the points' convex hull.
     V2, F, steiner = tessellation.refine(P, segments, holes, min_angle=args.min_angle,
@@ -51,7 +52,7 @@ def command_triangulate(args) -> int:
     return 0
 
 
-def command_voronoi(args) -> int:
+def command_voronoi(args: argparse.Namespace) -> int:
     P, _, _, _ = read_planar(args.input)
     diagram = tessellation.voronoi(P)
     render.plot_planar(args.output, polygons=diagram.cells, points=P,
@@ -60,7 +61,7 @@ def command_voronoi(args) -> int:
     return 0
 
 
-def command_power(args) -> int:
+def command_power(args: argparse.Namespace) -> int:
     P, _, _, weights = read_planar(args.input)
     if weights is None:
         raise InputError(f"{args.input}: power diagrams need a weight per site: lines of 'x y w'")
@@ -72,7 +73,7 @@ def command_power(args) -> int:
     return 0
 
 
-def command_crust(args) -> int:
+def command_crust(args: argparse.Namespace) -> int:
     suffix = Path(args.input).suffix.lower()
     if suffix in (".poly", ".txt", ".xy", ".csv") or (suffix not in (".xyz", ".ply", ".obj", ".off", ".stl")):
         P, _, _, _ = read_planar(args.input)
@@ -97,7 +98,7 @@ def command_crust(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     triangulate = commands.add_parser("triangulate", help="quality triangulation of a planar domain",
                                       description="Delaunay refinement (§2.1.1) of a planar straight-line "
