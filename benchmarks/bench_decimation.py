@@ -140,7 +140,7 @@ def quality():
     all_methods = methods()
     meshes = size(QUALITY_MESHES, ["armadillo.obj", "fandisk.obj"])
     names = [name for name in all_methods if not name.startswith("meshsmith (")]
-    print(f"\n## decimation: symmetric Hausdorff / bbox diagonal (vertices + 4 samples/face, both ways)")
+    print("\n## decimation: symmetric Hausdorff / bbox diagonal (vertices + 4 samples/face, both ways)")
     print(f"{'mesh':<22} {'kept':>5} {'faces':>7} " + " ".join(f"{name:>19}" for name in names))
     for mesh_name in meshes:
         path = DATA / mesh_name

@@ -51,7 +51,7 @@ FAILURES: list[str] = []
 MISSING_PEERS: list[str] = []
 
 # Environment variables that set the thread counts of meshsmith's peers (and their BLAS).
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "IGL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MESHSMITH_NUM_THREADS")
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "IGL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
 
 
 def set_quick(quick: bool) -> None:
@@ -100,8 +100,9 @@ def threads_description() -> str:
     """The thread settings the peers see: every variable that sets one, 'unset' = all cores."""
     settings = ", ".join(f"{name}={os.environ.get(name, 'unset')}" for name in THREAD_VARIABLES)
     return (f"threads: {settings} (unset: all {os.cpu_count()} cores). meshsmith: TBB, all cores; "
-            "Open3D: OpenMP; libigl: its parallel_for (IGL_NUM_THREADS); scipy cKDTree: workers=-1 where "
-            "named; fast-simplification, trimesh, meshio, triangle, pymeshlab: one thread")
+            "Open3D: OpenMP (OMP_NUM_THREADS); libigl: its parallel_for (IGL_NUM_THREADS); scipy: cKDTree "
+            "queries with workers=-1 (all cores) where the row says so, SuperLU and Qhull on one; "
+            "fast-simplification, trimesh, meshio, triangle, pymeshlab's decimation: one thread")
 
 
 def run_header() -> str:

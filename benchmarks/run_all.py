@@ -38,9 +38,11 @@ def main(arguments: list[str]) -> int:
             module = importlib.util.module_from_spec(spec)
             spec.loader.exec_module(module)
             module.main()
-        except Exception:  # the other chapters still run; the run fails
+        except Exception as error:  # the other chapters still run; the run fails
             traceback.print_exc()
-            harness.FAILURES.append(f"{chapter}: benchmark crashed: {traceback.format_exc(limit=1).strip()[-300:]}")
+            where = traceback.extract_tb(error.__traceback__)[-1]
+            harness.FAILURES.append(f"{chapter}: benchmark crashed at {Path(where.filename).name}:{where.lineno}: "
+                                    f"{type(error).__name__}: {error}"[:300])
         chapters[chapter] = time.perf_counter() - chapter_start
         print(f"[{chapter}: {chapters[chapter]:.1f} s]", flush=True)
     total = time.perf_counter() - started
