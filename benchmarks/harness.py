@@ -59,6 +59,12 @@ def set_quick(quick: bool) -> None:
     QUICK = quick
 
 
+def reset() -> None:
+    """Forget what this process measured and checked (run_all.py starts each run with it)."""
+    for record in (CASES, CHECKS, FAILURES, MISSING_PEERS):
+        record.clear()
+
+
 def size(full, quick):
     """The input size (or any parameter) of this run: `quick` in quick mode, else `full`."""
     return quick if QUICK else full

@@ -20,15 +20,17 @@ sys.path.insert(0, str(HERE))
 import harness  # noqa: E402
 
 
-def main(arguments: list[str]) -> int:
+def main(arguments: list[str], directory: Path = HERE) -> int:
+    """Run the bench files of `directory`; return the exit status (1: a crash or a failed check)."""
     quick = "--quick" in arguments
     selected = [argument for argument in arguments if not argument.startswith("--")]
     harness.set_quick(quick)
+    harness.reset()
     print(f"meshsmith benchmarks ({'quick' if quick else 'full'}): {harness.run_header()}")
     print(harness.threads_description())
     started = time.perf_counter()
     chapters = {}
-    for path in sorted(HERE.glob("bench_*.py")):
+    for path in sorted(directory.glob("bench_*.py")):
         chapter = path.stem.removeprefix("bench_")
         if selected and chapter not in selected:
             continue
