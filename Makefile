@@ -5,7 +5,7 @@ SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>
 STAMP := build/.installed-$(subst /,_,$(PYTHON))
 BENCH_STAMP := build/.installed-bench-$(subst /,_,$(PYTHON))
 
-.PHONY: setup demo test bench bench-quick clean
+.PHONY: setup demo test typecheck bench bench-quick clean
 setup: $(STAMP)
 
 $(STAMP): $(SOURCES)
@@ -17,6 +17,10 @@ demo: setup
 
 test: setup
 	$(PYTHON) -m pytest -q tests
+
+# The package's type annotations, checked against the installed numpy/scipy stubs (mypy is in the test extra).
+typecheck: setup
+	$(PYTHON) -m mypy python/meshsmith
 
 # Peers are installed only here (Open3D is large); `make bench CHAPTERS="io topology"` runs a subset.
 # The bench install includes the test and viz extras, so it stands for `setup` too.
