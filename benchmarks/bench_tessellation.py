@@ -3,7 +3,7 @@ refinement against Triangle (time and Steiner point counts on the same input and
 
 Peers: scipy.spatial.Delaunay (Qhull), `triangle` (PyPI wrapper of Shewchuk's Triangle; absent
 peers are reported as missing). Sizes: 1M points for Delaunay, a 20k-edge polygon with 200k
-points for constrained Delaunay (100k and 5k + 50k in quick mode).
+points for constrained Delaunay (50k and 3k + 30k in quick mode).
 
 Result checks (tolerance 0 unless stated): the Delaunay triangles (as vertex sets) equal scipy's
 and Triangle's (random points are in general position, so the triangulation is unique); the
@@ -89,7 +89,7 @@ def steiner_comparison() -> None:
 
 def main() -> None:
     rng = np.random.default_rng(0)
-    n = size(1_000_000, 100_000)
+    n = size(1_000_000, 50_000)
     P = rng.random((n, 2))
     bench = Benchmark("tessellation", f"2D Delaunay, {n:,} uniform random points", repeats=3)
     bench.time("meshsmith", lambda: delaunay(P))
@@ -97,14 +97,15 @@ def main() -> None:
     if triangle is not None:
         bench.time("triangle", lambda: triangle.triangulate({"vertices": P}, "Q"))
     bench.report()
-    F = delaunay(P)[0]
-    bench.check("Delaunay triangles differing from scipy's", differing_simplices(F, ScipyDelaunay(P).simplices), 0)
+    F = bench.output("meshsmith")[0]
+    bench.check("Delaunay triangles differing from scipy's",
+                differing_simplices(F, bench.output("scipy.spatial.Delaunay").simplices), 0)
     if triangle is not None:
         bench.check("Delaunay triangles differing from Triangle's",
-                    differing_simplices(F, triangle.triangulate({"vertices": P}, "Q")["triangles"]), 0)
+                    differing_simplices(F, bench.output("triangle")["triangles"]), 0)
 
     # Constrained Delaunay: a polygon with many edges (a wavy circle) plus interior points.
-    k, m = size(20_000, 5_000), size(200_000, 50_000)
+    k, m = size(20_000, 3_000), size(200_000, 30_000)
     # Jittered angles: the evenly spaced samples of this symmetric curve hold cocircular quadruples,
     # whose two triangulations are both Delaunay, and the check compares triangles one to one.
     angles = (np.arange(k) + rng.uniform(-0.25, 0.25, k)) * (2 * np.pi / k)
@@ -120,9 +121,8 @@ def main() -> None:
         bench.time("triangle", lambda: triangle.triangulate({"vertices": points, "segments": segments}, "pQ"))
     bench.report()
     if triangle is not None:
-        theirs = triangle.triangulate({"vertices": points, "segments": segments}, "pQ")
         bench.check("constrained Delaunay triangles differing from Triangle's",
-                    differing_simplices(constrained_delaunay(points, segments)[1], theirs["triangles"]), 0)
+                    differing_simplices(bench.output("meshsmith")[1], bench.output("triangle")["triangles"]), 0)
 
     P_e, segments_e, _ = refinement_domains()["letter E"]
     max_area = size(1e-4, 1e-3)
@@ -131,10 +131,10 @@ def main() -> None:
     if triangle is not None:
         bench.time("triangle", lambda: triangle_refine(P_e, segments_e, None, 30.0, max_area))
     bench.report()
-    V, F, _ = refine(P_e, segments_e, min_angle=30.0, max_area=max_area)
+    V, F, _ = bench.output("meshsmith")
     bench.check("refinement: degrees below the 30-degree bound", max(0.0, 30.0 - minimum_angle(V, F)), 1e-9)
     if triangle is not None:
-        theirs = triangle_refine(P_e, segments_e, None, 30.0, max_area)
+        theirs = bench.output("triangle")
         bench.check("refinement: area vs Triangle's mesh, relative",
                     relative_difference(total_area(V, F), total_area(theirs["vertices"], theirs["triangles"])), 1e-12)
 

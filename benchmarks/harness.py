@@ -7,12 +7,14 @@ Usage in a bench file::
     bench = Benchmark("io", f"read {n:,}-face binary PLY")
     bench.time("meshsmith", lambda: meshsmith.io.read_mesh(path))
     bench.time("trimesh", lambda: trimesh.load(path, process=False))
-    bench.check("vertices equal to trimesh's (count of differing entries)", mismatches, 0)
     bench.report()            # runs the timings, prints the table, ratios relative to meshsmith
+    V, F = bench.output("meshsmith")           # what the last timed run returned
+    bench.check("vertices differing from trimesh's", differing(V, bench.output("trimesh").vertices), 0)
 
 Timings: one warm-up of each implementation, then `repeats` rounds that run the implementations
 in turn (alternating, so a change of machine load hits every side alike); the median of each is
-kept. The machine is small and noisy, so ratios are what to quote, and timings never fail a run.
+kept (quick mode: at most 3 rounds). The machine is small and noisy, so ratios are what to quote,
+and timings never fail a run.
 
 What does fail a run (`run_all.py` exits non-zero): a timed implementation that raises, a chapter
 whose benchmark crashes, and a result check whose value exceeds its stated tolerance. Every bench
@@ -153,6 +155,8 @@ class Benchmark:
         self.medians: dict[str, float] = {}
         self.failures: dict[str, str] = {}
         self.different_work: set[str] = set()
+        self.outputs: dict[str, object] = {}
+        self.rounds = 0
         self._pending: list[tuple[str, object, int]] = []
 
     def time(self, name: str, run, repeats: int | None = None, *, same_work: bool = True) -> None:
@@ -161,6 +165,8 @@ class Benchmark:
         same_work=False marks a peer that does different work than the reference (see the module
         docstring); its ratio is shown in parentheses.
         """
+        if QUICK:  # small inputs: three rounds are enough for a table that only has to show up
+            repeats = min(repeats or self.repeats, 3)
         self._pending.append((name, run, repeats or self.repeats))
         if not same_work:
             self.different_work.add(name)
@@ -169,10 +175,14 @@ class Benchmark:
         """A result check of this case (see the module function `check`)."""
         return check(self.chapter, self.case, quantity, value, tolerance)
 
+    def output(self, name: str):
+        """What `name`'s run returned in its last timed round (after report()), for the checks."""
+        return self.outputs[name]
+
     def _run(self, name: str, run) -> float | None:
         try:
             start = time.perf_counter()
-            run()
+            self.outputs[name] = run()
             return time.perf_counter() - start
         except Exception as error:  # reported, and the run as a whole fails
             self.failures[name] = f"{type(error).__name__}: {error}"[:160]
@@ -184,7 +194,8 @@ class Benchmark:
         pending = [(name, run, repeats) for name, run, repeats in self._pending
                    if self._run(name, run) is not None]
         samples: dict[str, list[float]] = {name: [] for name, _, _ in pending}
-        for round_index in range(max((repeats for _, _, repeats in pending), default=0)):
+        self.rounds = max((repeats for _, _, repeats in pending), default=0)
+        for round_index in range(self.rounds):
             for name, run, repeats in pending:
                 if round_index < repeats and name not in self.failures:
                     elapsed = self._run(name, run)
@@ -210,7 +221,7 @@ class Benchmark:
         """Time every implementation, print the table; store it (results/<chapter>.json if full)."""
         self._measure()
         rows = self.rows()
-        print(f"\n## {self.chapter}: {self.case}  ({machine_description()}, median of {self.repeats}, "
+        print(f"\n## {self.chapter}: {self.case}  ({machine_description()}, median of {self.rounds}, "
               f"load average {load_average()})")
         print(f"{'implementation':<44} {'median [s]':>12} {'x ' + self.reference:>16}")
         for row in rows:
@@ -221,7 +232,7 @@ class Benchmark:
             shown = "-" if ratio is None else (f"{ratio:.2f}" if row["same_work"] else f"({ratio:.2f})")
             print(f"{row['implementation']:<44} {row['median_s']:>12.4f} {shown:>16}")
         entry = {"chapter": self.chapter, "case": self.case, "reference": self.reference,
-                 "repeats": self.repeats, "rows": rows, "load_average": load_average(),
+                 "repeats": self.rounds, "rows": rows, "load_average": load_average(),
                  "when": time.strftime("%Y-%m-%d %H:%M:%S")}
         CASES.append(entry)
         if not QUICK:
