@@ -5,8 +5,10 @@ Peers: scipy.spatial.Delaunay (Qhull), `triangle` (PyPI wrapper of Shewchuk's Tr
 peers are reported as missing). Sizes: 1M points for Delaunay, a 20k-edge polygon with 200k
 points for constrained Delaunay (50k and 3k + 30k in quick mode).
 
-Result checks (tolerance 0 unless stated): the Delaunay triangles (as vertex sets) equal scipy's
-and Triangle's (random points are in general position, so the triangulation is unique); the
+Result checks (tolerance 0 unless stated): the Delaunay triangles (as vertex sets) equal
+Triangle's (random points are in general position, so the triangulation is unique, and both
+decide with exact predicates), and differ from scipy's (Qhull, floating point) at most at a
+share of 1e-5 of them; the
 constrained Delaunay triangles equal Triangle's; refinement meets the angle bound (down to
 1e-9 degrees; at a smaller input angle, that angle) on every domain of the Steiner table and covers the same area as Triangle's mesh (1e-12 relative).
 """
@@ -98,8 +100,10 @@ def main() -> None:
         bench.time("triangle", lambda: triangle.triangulate({"vertices": P}, "Q"))
     bench.report()
     F = bench.output("meshsmith")[0]
-    bench.check("Delaunay triangles differing from scipy's",
-                differing_simplices(F, bench.output("scipy.spatial.Delaunay").simplices), 0)
+    # Qhull decides in floating point, so it may flip a nearly cocircular pair (4 of 2M triangles at
+    # 1M points, measured); Triangle and meshsmith use exact predicates and must agree exactly.
+    bench.check("share of Delaunay triangles differing from scipy's (Qhull, inexact)",
+                differing_simplices(F, bench.output("scipy.spatial.Delaunay").simplices) / len(F), 1e-5)
     if triangle is not None:
         bench.check("Delaunay triangles differing from Triangle's",
                     differing_simplices(F, bench.output("triangle")["triangles"]), 0)
