@@ -8,9 +8,9 @@ points for constrained Delaunay (50k and 3k + 30k in quick mode).
 Result checks (tolerance 0 unless stated): the Delaunay triangles (as vertex sets) equal
 Triangle's (random points are in general position, so the triangulation is unique, and both
 decide with exact predicates), and differ from scipy's (Qhull, floating point) at most at a
-share of 1e-5 of them; the
-constrained Delaunay triangles equal Triangle's; refinement meets the angle bound (down to
-1e-9 degrees; at a smaller input angle, that angle) on every domain of the Steiner table and covers the same area as Triangle's mesh (1e-12 relative).
+share of 1e-5 of them; the constrained Delaunay triangles equal Triangle's; refinement meets
+the angle bound (down to 1e-9 degrees; at a smaller input angle, that angle) on every domain of
+the Steiner table and covers the same area as Triangle's mesh (1e-12 relative).
 """
 from __future__ import annotations
 
