@@ -13,7 +13,7 @@ Usage in a bench file::
 
 Timings: one warm-up of each implementation, then `repeats` rounds that run the implementations
 in turn (alternating, so a change of machine load hits every side alike); the median of each is
-kept (quick mode: at most 3 rounds). The machine is small and noisy, so ratios are what to quote,
+kept (quick mode: five rounds, the fewest a README ratio may come from — issue 14's rule). The machine is small and noisy, so ratios are what to quote,
 and timings never fail a run.
 
 What does fail a run (`run_all.py` exits non-zero): a timed implementation that raises, a chapter
@@ -54,6 +54,10 @@ MISSING_PEERS: list[str] = []
 
 # Environment variables that set the thread counts of meshsmith's peers (and their BLAS).
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "IGL_NUM_THREADS", "OPENBLAS_NUM_THREADS")
+
+
+#: Rounds per implementation in quick mode (medians of at least five alternating runs).
+QUICK_ROUNDS = 5
 
 
 def set_quick(quick: bool) -> None:
@@ -165,8 +169,8 @@ class Benchmark:
         same_work=False marks a peer that does different work than the reference (see the module
         docstring); its ratio is shown in parentheses.
         """
-        if QUICK:  # small inputs: three rounds are enough for a table that only has to show up
-            repeats = min(repeats or self.repeats, 3)
+        if QUICK:  # small inputs: five alternating rounds each, so a quick table's ratios are quotable
+            repeats = QUICK_ROUNDS
         self._pending.append((name, run, repeats or self.repeats))
         if not same_work:
             self.different_work.add(name)
