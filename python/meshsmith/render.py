@@ -10,12 +10,18 @@ the title and the colour bar; Pillow (``pip install 'meshsmith[viz]'``) draws th
 writes the PNG.
 
     >>> image = render(V, F, "bunny.png")                        # (600, 800, 3) uint8
-    >>> render(V, F, "curv.png", scalar=H, cmap="coolwarm", scalar_label="mean curvature")
+    >>> render(V, F, "curv.png", scalar=H, scalar_label="mean curvature")   # diverging map: H changes sign
     >>> render(V, F, "views.png", views=["front", "left", "top", "three-quarter"])
 
-Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data); the front view
-looks from +y-up's +z axis towards -z (from -y with ``up="z"``); azimuth turns the camera about
-the up axis towards +x (the right view), elevation lifts it (the top view looks down).
+Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data; any of x, y, z,
+-x, -y, -z); the front view looks from +z towards -z (from -y with ``up="z"`` or ``"-z"``);
+azimuth turns the camera about the up axis towards screen right (+x for y and z up: the right
+view), elevation lifts it (the top view looks down the up axis).
+
+Colours: a scalar field is drawn with a sequential map (viridis) when it has one sign and with a
+diverging map centred on 0 (coolwarm) when it changes sign, unless `cmap` says otherwise. Its
+range is the 2nd to 98th percentile unless `scalar_range` is given; values outside the range take
+the end colours, and the colour bar then shows a triangle (an overflow arrow) at that end.
 """
 from __future__ import annotations
 
@@ -113,14 +119,28 @@ def colormap(name: str, steps: int = 256) -> np.ndarray:
     return _core.colormap_table(name, int(steps))
 
 
-def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
+def scalar_range(scalar, vertex_count: int, cmap: str | None = None) -> tuple[float, float]:
     """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
 
-    For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
+    For a diverging colormap (coolwarm; the default for a field that changes sign, see
+    :func:`default_colormap`) and a field whose range contains zero, the range is made
     symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
     Raises InputError for a wrong length or a NaN/Inf (naming the first one).
     """
-    return _robust_range(scalar, vertex_count, cmap)
+    return _robust_range(scalar, vertex_count, default_colormap(scalar) if cmap is None else cmap)
+
+
+def default_colormap(scalar) -> str:
+    """The colormap :func:`render` uses for a field when `cmap` is not given: "coolwarm"
+    (diverging, centred on 0) when the values change sign, else "viridis" (sequential)."""
+    values = np.asarray(scalar, dtype=float)
+    return "coolwarm" if values.size and values.min() < 0.0 < values.max() else "viridis"
+
+
+def clipped_ends(scalar, low: float, high: float) -> tuple[bool, bool]:
+    """(some value < low, some value > high): which ends of the colour bar get an overflow arrow."""
+    values = np.asarray(scalar, dtype=float)
+    return bool(values.size and values.min() < low), bool(values.size and values.max() > high)
 
 
 def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
@@ -130,7 +150,7 @@ def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
 
 def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
            camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
-           scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
+           scalar=None, cmap=None, scalar_range=None, scalar_label=None, colorbar=None,
            wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
            crease_angle=60.0, lighting=True,
            color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
@@ -146,15 +166,19 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         all in one row up to 3 views, else ceil(sqrt(k))); the picture is then exactly
         (columns * width, rows * height) and each panel is labelled with its view.
     camera: a :class:`Camera` to use instead of framing `view` automatically (single view only).
-    up: "y" or "z", the world axis that points up. projection: "perspective" or "orthographic".
+    up: the world axis that points up: "y" (default), "z", "x", "-x", "-y" or "-z".
+    projection: "perspective" or "orthographic".
     fov: vertical field of view in degrees of the perspective camera.
     scalar: (n,) float array, one finite value per vertex, interpolated per pixel and coloured
-        through `cmap` ("viridis", "magma" or "coolwarm").
+        through `cmap` ("viridis", "magma" or "coolwarm"; default: :func:`default_colormap`,
+        coolwarm centred on 0 when the values change sign, else viridis).
     scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
-        percentiles, symmetric about 0 for coolwarm when the values change sign.
+        percentiles, symmetric about 0 for coolwarm when the values change sign. Values
+        outside take the end colours.
     scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
         `scalar` is given and the picture is wide enough); it shows the low, middle and high
-        values of the range.
+        values of the range, and an overflow arrow (a triangle in the end colour) at each end
+        beyond which some values were clipped.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
         wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
@@ -187,6 +211,8 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         raise InputError("camera and several views are exclusive: give one or the other")
     if projection not in ("perspective", "orthographic"):
         raise InputError(f"unknown projection '{projection}': use 'perspective' or 'orthographic'")
+    if cmap is None:
+        cmap = "viridis" if scalar is None else default_colormap(_finite_scalar(scalar))
     if cmap not in COLORMAPS:
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
@@ -197,12 +223,14 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     n_vertices, n_faces = _validated_counts(V, F)
 
     low = high = None
+    clipped = (False, False)
     colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
             low, high = _robust_range(scalar, n_vertices, cmap)
         else:
             low, high = _check_range(scalar_range)
+        clipped = clipped_ends(scalar, low, high)
         if colorbar is None:
             colorbar = True
     colorbar = bool(colorbar) and scalar is not None
@@ -262,14 +290,14 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
 
     if title or colorbar or labels:
         canvas = _annotate(canvas, title=title, title_height=title_height, labels=labels,
-                           colorbar=(cmap, low, high, scalar_label, bar_width) if colorbar else None,
+                           colorbar=(cmap, low, high, scalar_label, bar_width, clipped) if colorbar else None,
                            transparent=transparent)
     if path is not None:
         save_png(canvas, path)
     return canvas
 
 
-def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="viridis",
+def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap=None,
                      scalar_range=None, scalar_label=None, title=None, background="white",
                      supersample=3) -> np.ndarray:
     """Draw a 2D parametrization: the triangles of F laid out at their texture coordinates.
@@ -402,6 +430,11 @@ def parametrization_picture(path, result, title: str) -> None:
 
 # ---- helpers ----------------------------------------------------------------------------------
 
+#: The largest side of a picture (or of one panel), in pixels: 16384² pixels supersampled 3×3
+#: already take about 10 GB.
+MAX_SIDE = 16384
+
+
 def _check_size(size) -> tuple[int, int]:
     try:
         width, height = size
@@ -410,7 +443,20 @@ def _check_size(size) -> tuple[int, int]:
         valid = False
     if not valid or width <= 0 or height <= 0:
         raise InputError(f"size must be (width, height) with positive integers, got {size!r}")
+    if width > MAX_SIDE or height > MAX_SIDE:
+        raise InputError(f"size {size!r} is too large: at most {MAX_SIDE} pixels per side")
     return int(width), int(height)
+
+
+def _finite_scalar(scalar) -> np.ndarray:
+    """The scalar as a 1-D float array, for choosing the colormap (the core checks it fully later)."""
+    try:
+        values = np.asarray(scalar, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("scalar must be a 1-D array of numbers, one per vertex") from None
+    if values.ndim != 1:
+        raise InputError(f"scalar has shape {values.shape}: expected (n,), one value per vertex")
+    return values[np.isfinite(values)]
 
 
 def _check_range(value) -> tuple[float, float]:
@@ -557,22 +603,46 @@ def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> 
             text = name if isinstance(name, str) else f"az {name[0]:g}°, el {name[1]:g}°"
             draw.text((x + 8, y + 6), text, fill=text_fill, font=font)
     if colorbar is not None:
-        cmap, low, high, label, bar_width = colorbar
-        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill)
+        cmap, low, high, label, bar_width, clipped = colorbar
+        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill, clipped)
     return np.asarray(image).copy()
 
 
-def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill):
+@dataclass(frozen=True)
+class ColorbarLayout:
+    """Where the colour bar goes in a picture: the bar's left x, top y, thickness and height in
+    pixels, the height of the overflow arrows drawn above and below it, and the font size."""
+
+    x: int
+    y: int
+    thickness: int
+    height: int
+    arrow: int
+    font_size: int
+
+
+def colorbar_layout(width: int, height: int, bar_width: int, top_offset: int) -> ColorbarLayout:
+    """The colour bar's place in a (width, height) picture whose rightmost `bar_width` columns
+    below `top_offset` (the title band) hold it."""
+    strip_x = width - bar_width
+    available = height - top_offset
+    thickness = max(10, min(22, bar_width // 5))
+    arrow = max(6, thickness * 3 // 4)
+    bar_height = max(10, int(available * 0.62) - 2 * arrow)
+    font_size = max(10, min(16, bar_width // 6, available // 22))
+    x = strip_x + max(6, bar_width // 8)
+    y = top_offset + (available - bar_height) // 2 + font_size // 2
+    return ColorbarLayout(x, y, thickness, bar_height, arrow, font_size)
+
+
+def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill, clipped):
     Image, _, _ = _pillow()
     width, height = image.size
     strip_x = width - bar_width
-    available = height - top_offset
-    bar_height = max(10, int(available * 0.62))
-    bar_thickness = max(10, min(22, bar_width // 5))
-    font_size = max(10, min(16, bar_width // 6, available // 22))
+    layout = colorbar_layout(width, height, bar_width, top_offset)
+    bar_x, bar_y, bar_thickness, bar_height = layout.x, layout.y, layout.thickness, layout.height
+    font_size = layout.font_size
     font = _font(font_size)
-    bar_x = strip_x + max(6, bar_width // 8)
-    bar_y = top_offset + (available - bar_height) // 2 + font_size // 2
     table = colormap(cmap, bar_height)[::-1]  # high values on top
     pixels = np.clip(np.rint(table * 255.0), 0, 255).astype(np.uint8)
     bar = np.broadcast_to(pixels[:, None, :], (bar_height, bar_thickness, 3))
@@ -581,6 +651,19 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
     image.paste(bar_image, (bar_x, bar_y))
     outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
     draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
+    # Overflow arrows: a triangle in the end colour where values beyond the range were clipped.
+    alpha = (255,) if mode == "RGBA" else ()
+    below, above = clipped
+    if above:
+        top = bar_y - 2
+        draw.polygon([(bar_x - 1, top), (bar_x + bar_thickness, top),
+                      ((2 * bar_x + bar_thickness - 1) / 2, top - layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[0]) + alpha, outline=outline)
+    if below:
+        bottom = bar_y + bar_height + 1
+        draw.polygon([(bar_x - 1, bottom), (bar_x + bar_thickness, bottom),
+                      ((2 * bar_x + bar_thickness - 1) / 2, bottom + layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[-1]) + alpha, outline=outline)
     values = [high, (low + high) / 2.0, low]
     positions = [bar_y, bar_y + bar_height // 2, bar_y + bar_height - 1]
     for text, y in zip(_format_ticks(values), positions):
@@ -597,16 +680,18 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
         if draw.textlength(str(label), font=label_font) > room:
             lines = str(label).split()
         for k, line in enumerate(reversed(lines)):
-            draw.text((strip_x + bar_width // 2, bar_y - font_size // 2 - 6 - k * (size + 3)), line,
+            draw.text((strip_x + bar_width // 2, bar_y - layout.arrow - font_size // 2 - 6 - k * (size + 3)), line,
                       fill=text_fill, font=label_font, anchor="ms")
 
 
 def save_png(canvas: np.ndarray, path) -> None:
     """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
 
-    Raises InputError when the folder does not exist."""
+    Raises InputError when the file name does not end in .png or the folder does not exist."""
     Image, _, _ = _pillow()
     path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise InputError(f"cannot write {path}: pictures are written as PNG; name the file .png")
     if path.parent and not path.parent.exists():
         raise InputError(f"cannot write {path}: folder {path.parent} does not exist")
     Image.fromarray(canvas, "RGBA" if canvas.shape[2] == 4 else "RGB").save(path, optimize=False)

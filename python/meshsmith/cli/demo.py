@@ -4,7 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .. import demo
-from .common import ProgressBar
+from .common import ProgressBar, add_command
 
 
 def command_demo(args) -> int:
@@ -15,9 +15,11 @@ def command_demo(args) -> int:
 
 def register(commands) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    demo = commands.add_parser("demo", help="run the whole pipeline and write an HTML report",
-                               description="Run every stage of meshsmith on a built-in shape (or --input) "
-                                           "and write outputs and an HTML report with pictures.")
+    demo = add_command(
+        commands, "demo", help="run the whole pipeline and write an HTML report",
+        description="Run every stage of meshsmith on a built-in shape (or --input) and write outputs and an "
+                    "HTML report with pictures (index.html in the output folder).",
+        examples=["meshsmith demo --out report", "meshsmith demo --out report-mesh --input mesh.off"])
     demo.add_argument("--out", default="meshsmith-demo", help="output folder (default: meshsmith-demo)")
     demo.add_argument("--input", help="mesh file to use instead of the built-in shape")
     demo.set_defaults(run=command_demo)
