@@ -233,7 +233,7 @@ def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
     child = subprocess.Popen([sys.executable, "-m", "meshsmith", "parametrize", str(path), "--method", "abf",
                               "-o", str(tmp_path / "uv.obj")], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, preexec_fn=_default_sigint)
-    time.sleep(4.0)                           # past start-up and reading: inside the cut and the Newton steps
+    time.sleep(2.0)                           # past start-up and reading: inside the cut or the Newton steps
     assert child.poll() is None, child.communicate()
     child.send_signal(signal.SIGINT)
     sent = time.perf_counter()
@@ -245,3 +245,35 @@ def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
     assert child.returncode == 130, stderr
     assert stderr.strip().splitlines() == ["meshsmith: interrupted"]
     assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s"
+
+
+LIBRARY_ABF = """
+import sys
+from meshsmith import datasets, parametrization
+V, F = datasets.icosphere(5)
+cut = parametrization.cut_to_disk(V, F)
+print("ready", flush=True)
+try:
+    for _ in range(100):                                  # long enough on any machine
+        parametrization.abf(cut.V, cut.F, method="abf")   # no callback: Ctrl-C still reaches the Newton loop
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(130)
+print("finished", flush=True)
+"""
+
+
+def test_ctrl_c_reaches_the_library_abf_within_a_second():
+    child = subprocess.Popen([sys.executable, "-c", LIBRARY_ABF], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, preexec_fn=_default_sigint)
+    try:
+        assert child.stdout.readline().strip() == "ready", child.stderr.read()
+        time.sleep(1.0)
+        child.send_signal(signal.SIGINT)
+        sent = time.perf_counter()
+        stdout, stderr = child.communicate(timeout=20)
+    finally:
+        child.kill()
+    elapsed = time.perf_counter() - sent
+    assert child.returncode == 130 and stdout.strip() == "interrupted", (stdout, stderr)
+    assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s inside abf"

@@ -69,7 +69,8 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
 
     A mesh that is not a topological disk (closed, higher genus, several holes) is first cut
     with :func:`cut_to_disk`. "abf" / "abf++" use :func:`abf`.
-    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback (stretch only).
+    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback
+    ``(fraction, stage) -> bool`` of the method's own iterations (stretch, abf, abf++).
     Returns a :class:`Parametrization`. Raises InputError for an unknown method or bad input
     (see :func:`cut_to_disk`).
     """
@@ -90,6 +91,6 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
     elif method == "lscm":
         uv = lscm(V, F)
     else:
-        uv = abf(V, F, method=method).uv
+        uv = abf(V, F, method=method, progress=progress).uv
     return Parametrization(np.asarray(V), np.asarray(F), uv, cut, method,
                            geometry.triangle_distortion(V, F, uv), is_bijective(uv, F))
