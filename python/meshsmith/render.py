@@ -98,8 +98,8 @@ def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
     """The camera that frames the vertices V from a view, as tightly as `margin` allows.
 
     V: (n, 3) float array. view: a name from :data:`VIEWS` or (azimuth, elevation) in degrees.
-    size: (width, height) of the picture (its aspect ratio matters). up: "y" or "z", the world
-    axis that points up. fov: vertical field of view in degrees (perspective). margin: free
+    size: (width, height) of the picture (its aspect ratio matters). up: the world axis that
+    points up: "y", "z", "x", "-x", "-y" or "-z". fov: vertical field of view in degrees (perspective). margin: free
     border on the tight side as a fraction of the picture size, in [0, 0.45).
     The perspective distance and the lateral offset are solved exactly so every vertex is in
     view and the silhouette is centred. Raises InputError for bad arguments.

@@ -2,10 +2,11 @@
 
     meshsmith info FILE
     meshsmith convert IN OUT [--binary | --ascii]
-    meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--wireframe] [--views ...]
-    meshsmith curvature IN --kind mean|gaussian|k1|k2 -o out.png|out.npy
+    meshsmith render IN -o out.png [--scalar x|y|z|valence|FILE.npy] [--range MIN MAX] [--cmap C]
+                                   [--up x|y|z|-x|-y|-z] [--wireframe] [--views ...]
+    meshsmith curvature IN --kind mean|gaussian|k1|k2 -o out.png|out.npy [--range MIN MAX] [--up ...]
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
-    meshsmith triangulate IN.poly --min-angle 30 [--max-area A] -o OUT.obj [--picture P.png]
+    meshsmith triangulate IN.poly --min-angle 30 [--max-area A] [--max-steiner-points N] -o OUT.obj [--picture P.png]
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT
     meshsmith decimate IN -o OUT (--faces N | --ratio r | --error eps) [--method qem|cluster] [--progressive OUT.pm]
     meshsmith lod IN.pm --faces N -o OUT

@@ -6,6 +6,7 @@ import argparse
 import re
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -72,8 +73,9 @@ def integer(low: int | None = None, high: int | None = None):
     return parse
 
 
-def number(low: float | None = None, high: float | None = None, *, open_low: bool = False):
-    """An argparse type: a finite number in [low, high] (or (low, high] with open_low)."""
+def number(low: float | None = None, high: float | None = None, *, open_low: bool = False,
+           open_high: bool = False):
+    """An argparse type: a finite number in [low, high] (open at an end with open_low / open_high)."""
     def parse(text: str) -> float:
         try:
             value = float(text)
@@ -82,19 +84,20 @@ def number(low: float | None = None, high: float | None = None, *, open_low: boo
         if not np.isfinite(value):
             raise argparse.ArgumentTypeError(f"expected a finite number, got {text}")
         if ((low is not None and (value < low or (open_low and value == low)))
-                or (high is not None and value > high)):
-            raise argparse.ArgumentTypeError(f"expected a number {_bounds(low, high, open_low)}, got {text}")
+                or (high is not None and (value > high or (open_high and value == high)))):
+            raise argparse.ArgumentTypeError(f"expected a number {_bounds(low, high, open_low, open_high)}, "
+                                             f"got {text}")
         return value
     parse.__name__ = "number"
     return parse
 
 
-def _bounds(low, high, open_low=False) -> str:
+def _bounds(low, high, open_low=False, open_high=False) -> str:
     if low is not None and high is not None:
-        return f"in {'(' if open_low else '['}{low:g}, {high:g}]"
+        return f"in {'(' if open_low else '['}{low:g}, {high:g}{')' if open_high else ']'}"
     if low is not None:
         return f"{'>' if open_low else '>='} {low:g}"
-    return f"<= {high:g}"
+    return f"{'<' if open_high else '<='} {high:g}"
 
 
 def add_picture_size(parser, width: int = 800, height: int = 600) -> None:
@@ -216,7 +219,6 @@ def check_output(path: str, suffixes: tuple[str, ...], what: str) -> str:
 
     what: how the message names the file ("-o", "--picture"). Raises UsageError for the extension,
     InputError for the folder."""
-    from pathlib import Path
     target = Path(path)
     if target.suffix.lower() not in suffixes:
         given = f"ends in '{target.suffix}'" if target.suffix else "has no extension"

@@ -121,7 +121,7 @@ def register(commands) -> None:
                   "meshsmith triangulate points.txt -o hull.png"])
     triangulate.add_argument("input", help=".poly file, or a text file of 'x y' lines")
     triangulate.add_argument("-o", "--output", required=True, help="mesh file (.obj, .ply, .off; z = 0) or .png")
-    triangulate.add_argument("--min-angle", type=number(0, 35, open_low=True), default=20.7,
+    triangulate.add_argument("--min-angle", type=number(0, 35, open_low=True, open_high=True), default=20.7,
                              help="degrees, in (0, 35) (default 20.7)")
     triangulate.add_argument("--max-area", type=number(0, open_low=True), help="largest triangle area")
     triangulate.add_argument("--max-steiner-points", type=integer(0, 100_000_000), default=1_000_000,
