@@ -100,22 +100,23 @@ def check_valid(path, command):
 
 @pytest.mark.parametrize("command, example", documented_examples(),
                          ids=[example for _, example in documented_examples()])
-def test_documented_example_runs(inputs, command, example):
+def test_documented_example_runs(inputs, command, example, monkeypatch, capsys):
     words = shlex.split(example)
     assert words[:2] == ["meshsmith", command]
     for output in outputs_of(words):
         target = inputs / output
-        if target.exists() and target.name != "mesh.pm":
-            target.unlink() if target.is_file() else None
-    result = run(*words[1:], cwd=inputs)
-    assert result.returncode == 0, (example, result.stderr)
-    assert "Traceback" not in result.stderr
+        if target.is_file() and target.name != "mesh.pm":
+            target.unlink()
+    monkeypatch.chdir(inputs)
+    status = cli.main(words[1:])                 # in-process: the same parser and commands, no start-up cost
+    captured = capsys.readouterr()
+    assert status == 0, (example, captured.err)
     outputs = outputs_of(words)
     assert outputs or command == "info"
     for output in outputs:
         check_valid(inputs / output, command)
     if command == "info" and "--json" in words:
-        assert json.loads(result.stdout)["n_faces"] == 320
+        assert json.loads(captured.out)["n_faces"] == 320
 
 
 # ---- bad usage: one line, no traceback, the right exit status -------------------------------
@@ -277,3 +278,18 @@ def test_ctrl_c_reaches_the_library_abf_within_a_second():
     elapsed = time.perf_counter() - sent
     assert child.returncode == 130 and stdout.strip() == "interrupted", (stdout, stderr)
     assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s inside abf"
+
+
+def test_render_takes_negative_up_axes_and_prints_the_bar_range(inputs, tmp_path, capsys):
+    from meshsmith import render
+    out = tmp_path / "z.png"
+    assert cli.main(["render", str(inputs / "mesh.off"), "-o", str(out), "--up", "-z", "--scalar", "z"]) == 0
+    printed = capsys.readouterr().out
+    V, _ = io.read_mesh(inputs / "mesh.off")
+    low, high = render.scalar_range(V[:, 2], len(V))           # what the bar spans
+    assert f"colour bar [{low:.6g}, {high:.6g}]" in printed
+    below, above = int(np.sum(V[:, 2] < low)), int(np.sum(V[:, 2] > high))
+    assert (f"{below} below" in printed) == (below > 0) and (f"{above} above" in printed) == (above > 0)
+    assert cli.main(["render", str(inputs / "mesh.off"), "-o", str(out), "--scalar", "z",
+                     "--range", str(V[:, 2].min()), str(V[:, 2].max())]) == 0
+    assert "arrows" not in capsys.readouterr().out                 # nothing clipped: no arrow mentioned
