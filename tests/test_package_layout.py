@@ -41,7 +41,7 @@ def imported_modules(name: str, path: Path, known: set[str]) -> set[str]:
 
 
 def test_chapters_with_several_families_cli_and_demo_are_packages():
-    for name in ("geometry", "tessellation", "decimation", "parametrization", "cli", "demo"):
+    for name in ("geometry", "tessellation", "decimation", "parametrization", "repair", "cli", "demo"):
         assert (PACKAGE / name / "__init__.py").is_file(), f"meshsmith.{name} should be a package"
         assert not (PACKAGE / f"{name}.py").exists(), f"meshsmith/{name}.py beside the package"
 
@@ -85,7 +85,7 @@ def test_import_graph_sees_relative_imports():
     assert "meshsmith.geometry" in imported_modules("meshsmith.cli.geometry", PACKAGE / "cli" / "geometry.py", known)
 
 
-@pytest.mark.parametrize("chapter", ["geometry", "tessellation", "decimation", "parametrization"])
+@pytest.mark.parametrize("chapter", ["geometry", "tessellation", "decimation", "parametrization", "repair"])
 def test_public_names_are_reexported(chapter):
     module = importlib.import_module(f"meshsmith.{chapter}")
     for name in module.__all__:

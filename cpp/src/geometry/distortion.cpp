@@ -152,8 +152,12 @@ TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, con
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.global_stretch_l2 = total_surface > 0.0 ? std::sqrt(weighted_stretch / total_surface) : nan;
+  // A map whose UV triangles all have zero area cannot be scaled to the surface's area: its
+  // stretch is infinite at every scale (not inf * 0 = NaN).
+  const double inf = std::numeric_limits<double>::infinity();
   out.normalized_global_stretch_l2 =
-      total_surface > 0.0 ? out.global_stretch_l2 * std::sqrt(total_parameter / total_surface) : nan;
+      !(total_surface > 0.0) ? nan
+      : total_parameter > 0.0 ? out.global_stretch_l2 * std::sqrt(total_parameter / total_surface) : inf;
   out.global_stretch_linf = total_surface > 0.0 ? max_stretch : nan;
 
   const Eigen::Index n = V.rows();

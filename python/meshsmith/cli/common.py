@@ -7,10 +7,12 @@ import re
 import sys
 import time
 from pathlib import Path
+from typing import Callable, NoReturn, TextIO
 
 import numpy as np
 
 from .. import InputError, io
+from ..core import Mesh
 
 #: The extensions of the mesh formats the commands write.
 MESH_SUFFIXES = (".obj", ".off", ".ply", ".stl")
@@ -27,7 +29,7 @@ class UsageError(InputError):
 class ArgumentParser(argparse.ArgumentParser):
     """argparse, with a usage error reported as one line `meshsmith: error: ...` (exit status 2)."""
 
-    def error(self, message: str):
+    def error(self, message: str) -> NoReturn:
         command = self.prog.split()[-1] if " " in self.prog else None
         where = f"{command}: " if command else ""
         hint = f"meshsmith {command} --help" if command else "meshsmith --help"
@@ -38,7 +40,8 @@ class Formatter(argparse.RawDescriptionHelpFormatter):
     """Descriptions and the examples epilog keep their line breaks."""
 
 
-def add_command(commands, name: str, *, help: str, description: str, examples: list[str]):
+def add_command(commands: argparse._SubParsersAction[argparse.ArgumentParser], name: str, *, help: str,
+                description: str, examples: list[str]) -> argparse.ArgumentParser:
     """A subcommand whose --help ends with its examples (each one is run by tests/test_cli_examples.py).
 
     examples: command lines that start with ``meshsmith NAME``."""
@@ -47,19 +50,19 @@ def add_command(commands, name: str, *, help: str, description: str, examples: l
     return parser
 
 
-def set_examples(parser, name: str, examples: list[str]) -> None:
+def set_examples(parser: argparse.ArgumentParser, name: str, examples: list[str]) -> None:
     """Give a command's parser its examples: the epilog of its --help, and `parser.examples`."""
     for example in examples:
         if not example.startswith(f"meshsmith {name} "):
             raise ValueError(f"example {example!r} of command {name} must start with 'meshsmith {name} '")
     parser.epilog = "examples:\n" + "\n".join(f"  {example}" for example in examples)
     parser.formatter_class = Formatter
-    parser.examples = list(examples)
+    setattr(parser, "examples", list(examples))   # read by tests/test_cli_examples.py
 
 
 # ---- flag types: a value out of range is a usage error (exit status 2), caught before any work ----
 
-def integer(low: int | None = None, high: int | None = None):
+def integer(low: int | None = None, high: int | None = None) -> Callable[[str], int]:
     """An argparse type: an integer in [low, high]."""
     def parse(text: str) -> int:
         try:
@@ -74,7 +77,7 @@ def integer(low: int | None = None, high: int | None = None):
 
 
 def number(low: float | None = None, high: float | None = None, *, open_low: bool = False,
-           open_high: bool = False):
+           open_high: bool = False) -> Callable[[str], float]:
     """An argparse type: a finite number in [low, high] (open at an end with open_low / open_high)."""
     def parse(text: str) -> float:
         try:
@@ -92,7 +95,7 @@ def number(low: float | None = None, high: float | None = None, *, open_low: boo
     return parse
 
 
-def _bounds(low, high, open_low=False, open_high=False) -> str:
+def _bounds(low: float | None, high: float | None, open_low: bool = False, open_high: bool = False) -> str:
     if low is not None and high is not None:
         return f"in {'(' if open_low else '['}{low:g}, {high:g}{')' if open_high else ']'}"
     if low is not None:
@@ -100,7 +103,7 @@ def _bounds(low, high, open_low=False, open_high=False) -> str:
     return f"{'<' if open_high else '<='} {high:g}"
 
 
-def add_picture_size(parser, width: int = 800, height: int = 600) -> None:
+def add_picture_size(parser: argparse.ArgumentParser, width: int = 800, height: int = 600) -> None:
     """--width and --height, range-checked (1 to MAX_PICTURE_SIDE pixels)."""
     side = integer(16, MAX_PICTURE_SIDE)
     parser.add_argument("--width", type=side, default=width, metavar="PIXELS",
@@ -157,7 +160,7 @@ class ProgressBar:
 
     _drawing: list["ProgressBar"] = []
 
-    def __init__(self, width: int = 30, force: bool = False, stream=None):
+    def __init__(self, width: int = 30, force: bool = False, stream: TextIO | None = None) -> None:
         self.stream = stream or sys.stderr
         self.enabled = force or self.stream.isatty()
         self.width, self.start, self.last_stage = width, time.perf_counter(), None
@@ -196,7 +199,7 @@ class ProgressBar:
 
 # ---- input -----------------------------------------------------------------------------------
 
-def read_mesh(path: str):
+def read_mesh(path: str) -> Mesh:
     return io.read_mesh(path)
 
 

@@ -1,20 +1,22 @@
 """`meshsmith decimate|lod`: decimation and progressive meshes (§4)."""
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
 from .. import InputError, decimation, geometry, io
 from .common import MESH_SUFFIXES, ProgressBar, add_command, check_output, integer, number
 
 
-def _relative_hausdorff(V0, F0, V1, F1) -> tuple[float, float]:
+def _relative_hausdorff(V0: np.ndarray, F0: np.ndarray, V1: np.ndarray, F1: np.ndarray) -> tuple[float, float]:
     """Symmetric Hausdorff distance between two meshes and its ratio to the bounding-box diagonal."""
     distance = float(geometry.hausdorff_distance(V1, F1, V0, F0))
     diagonal = float(np.linalg.norm(V0.max(axis=0) - V0.min(axis=0)))
     return distance, (distance / diagonal if diagonal > 0 else 0.0)
 
 
-def command_decimate(args) -> int:
+def command_decimate(args: argparse.Namespace) -> int:
     check_output(args.output, MESH_SUFFIXES, "-o")
     if args.progressive:
         check_output(args.progressive, (".pm",), "--progressive")
@@ -53,7 +55,7 @@ def command_decimate(args) -> int:
     return 0
 
 
-def command_lod(args) -> int:
+def command_lod(args: argparse.Namespace) -> int:
     check_output(args.output, MESH_SUFFIXES, "-o")
     pm = decimation.ProgressiveMesh.load(args.input)
     low, high = pm.face_range
@@ -67,7 +69,7 @@ def command_lod(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     decimate = add_command(
         commands, "decimate", help="reduce the number of triangles (QEM or clustering)",

@@ -1,19 +1,20 @@
 """`meshsmith demo`: the whole pipeline and an HTML report."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from .. import demo
 from .common import ProgressBar, add_command
 
 
-def command_demo(args) -> int:
+def command_demo(args: argparse.Namespace) -> int:
     report = demo.run_demo(Path(args.out), input_path=args.input, progress=ProgressBar())
     print(f"demo report: {report}")
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     demo = add_command(
         commands, "demo", help="run the whole pipeline and write an HTML report",

@@ -1,11 +1,13 @@
 """`meshsmith normals`: point-cloud normals (§2.2)."""
 from __future__ import annotations
 
+import argparse
+
 from .. import io, points
 from .common import ProgressBar, add_command, check_output, integer, number, read_point_cloud
 
 
-def command_normals(args) -> int:
+def command_normals(args: argparse.Namespace) -> int:
     check_output(args.output, (".xyz", ".ply"), "-o")
     P = read_point_cloud(args.input)
     progress = ProgressBar()
@@ -17,7 +19,7 @@ def command_normals(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     normals = add_command(
         commands, "normals", help="estimate (and orient) point-cloud normals",

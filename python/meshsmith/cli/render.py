@@ -1,6 +1,7 @@
 """`meshsmith render`: PNG pictures of a mesh."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +30,7 @@ def scalar_field(name: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, s
     raise InputError(f"unknown scalar '{name}': use x, y, z, valence or a .npy file of per-vertex values")
 
 
-def add_colour_options(parser) -> None:
+def add_colour_options(parser: argparse.ArgumentParser) -> None:
     """--cmap and --range, shared by the commands that colour a mesh by a scalar field."""
     parser.add_argument("--cmap", choices=render.COLORMAPS,
                         help="colour map (default: coolwarm, centred on 0, for values of both signs; "
@@ -41,7 +42,7 @@ def add_colour_options(parser) -> None:
                         help="world axis that points up in the picture (default y; z for CAD and scans)")
 
 
-def colour_range(args, values: np.ndarray) -> tuple[str, tuple[float, float]]:
+def colour_range(args: argparse.Namespace, values: np.ndarray) -> tuple[str, tuple[float, float]]:
     """(colour map, (low, high)) that `render` will use for `values` under --cmap and --range."""
     cmap = args.cmap or render.default_colormap(values)
     if args.range is None:
@@ -62,7 +63,7 @@ def describe_range(values: np.ndarray, low: float, high: float) -> str:
     return (f"values in [{values.min():.6g}, {values.max():.6g}], colour bar [{low:.6g}, {high:.6g}]{note}")
 
 
-def command_render(args) -> int:
+def command_render(args: argparse.Namespace) -> int:
     check_output(args.output, (".png",), "-o")
     V, F = read_mesh(args.input)
     options = dict(size=(args.width, args.height), wireframe=args.wireframe, flat=args.flat, up=args.up)
@@ -81,7 +82,7 @@ def command_render(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     parser = add_command(
         commands, "render", help="render a mesh to a PNG picture",

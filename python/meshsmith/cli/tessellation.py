@@ -1,6 +1,7 @@
 """`meshsmith triangulate|voronoi|crust|power`: planar tessellation and Voronoi filtering (§2.1)."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ from .common import (MESH_SUFFIXES, POINT_CLOUD_SUFFIXES, ProgressBar, add_comma
                      number, read_point_cloud)
 
 
-def read_planar(path: str):
+def read_planar(path: str) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
     """Planar input of the tessellation commands: a Triangle ``.poly`` file (vertices, segments,
     holes), or a text file of ``x y`` or ``x y w`` lines (w: a weight, used by ``power``).
     Returns (P (n, 2), segments or None, holes or None, weights or None)."""
@@ -41,7 +42,7 @@ def _write_planar_mesh(path: str, V2: np.ndarray, F: np.ndarray) -> None:
         io.write_mesh(path, np.column_stack([V2, np.zeros(len(V2))]), F)
 
 
-def command_triangulate(args) -> int:
+def command_triangulate(args: argparse.Namespace) -> int:
     check_output(args.output, MESH_SUFFIXES + (".png",), "-o")
     if args.picture:
         check_output(args.picture, (".png",), "--picture")
@@ -60,7 +61,7 @@ def command_triangulate(args) -> int:
     return 0
 
 
-def command_voronoi(args) -> int:
+def command_voronoi(args: argparse.Namespace) -> int:
     check_output(args.output, (".png",), "-o")
     P, _, _, _ = read_planar(args.input)
     diagram = tessellation.voronoi(P)
@@ -70,7 +71,7 @@ def command_voronoi(args) -> int:
     return 0
 
 
-def command_power(args) -> int:
+def command_power(args: argparse.Namespace) -> int:
     check_output(args.output, (".png",), "-o")
     P, _, _, weights = read_planar(args.input)
     if weights is None:
@@ -83,7 +84,7 @@ def command_power(args) -> int:
     return 0
 
 
-def command_crust(args) -> int:
+def command_crust(args: argparse.Namespace) -> int:
     check_output(args.output, MESH_SUFFIXES + (".png",), "-o")
     suffix = Path(args.input).suffix.lower()
     if suffix in PLANAR_SUFFIXES or suffix not in POINT_CLOUD_SUFFIXES + MESH_SUFFIXES:
@@ -109,7 +110,7 @@ def command_crust(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     triangulate = add_command(
         commands, "triangulate", help="quality triangulation of a planar domain",

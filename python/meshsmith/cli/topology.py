@@ -1,13 +1,14 @@
 """`meshsmith info`: counts, topology, bounding box, area and volume."""
 from __future__ import annotations
 
+import argparse
 import json
 
 from .. import topology
 from .common import add_command, read_mesh
 
 
-def command_info(args) -> int:
+def command_info(args: argparse.Namespace) -> int:
     V, F = read_mesh(args.file)
     summary = topology.info(V, F)
     if args.json:
@@ -18,7 +19,7 @@ def command_info(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     info = add_command(
         commands, "info", help="counts, topology, bounding box, area and volume of a mesh",

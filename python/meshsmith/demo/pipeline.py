@@ -8,24 +8,27 @@ import traceback
 from pathlib import Path
 
 from .. import core, io
+from .._typing import ProgressCallback
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
 from .render import stage_pictures
+from .repair import stage_clean
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
 
 #: Every chapter's stage, in pipeline order; a new chapter adds its stage here.
-STAGES = [stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_decimation,
+STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_decimation,
           stage_parametrization]
 
 
-def run_demo(out: Path | str, input_path: str | None = None, progress=None) -> Path:
+def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:
     """Run every stage and write `out/index.html`; returns its path.
 
-    input_path: a mesh file to use instead of the built-in shape. progress: an optional
+    input_path: a mesh file to use instead of the built-in shape; the first stage cleans it
+    (meshsmith.repair.clean) and the report says what that changed. progress: an optional
     `(fraction, stage) -> bool` callback, told at the start and end of each stage.
     A stage that raises does not stop the others: its section in the report shows the error
     (and `results.json` records it under "errors"). Ctrl-C (KeyboardInterrupt) still stops the run.

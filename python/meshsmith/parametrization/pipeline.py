@@ -6,8 +6,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import geometry, topology
+from .. import _arguments, core, geometry, topology
 from .._core import InputError
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..geometry import TriangleDistortion
+from ..repair.unreferenced import on_referenced_vertices
 from .angle_based import abf
 from .bijectivity import is_bijective
 from .cut import CutMesh, cut_to_disk
@@ -28,21 +33,23 @@ PARAMETRIZATION_METHODS = {
 
 
 @dataclass(frozen=True)
-class Parametrization:
-    """A parametrization made by :func:`parametrize`, with its quality.
+class Parametrization(Unpackable):
+    """A parametrization made by :func:`parametrize`, with its quality; unpacks in field order
+    (``V, F, uv, cut, method, distortion, bijective``).
 
-    V, F: the mesh the texture coordinates belong to (the input, or the input cut to a disk);
-    uv: (k, 2) float64, one row per vertex of V; cut: the :class:`CutMesh` when the input had to
-    be cut, else None (then V, F are the input); method: the method's name; distortion: the
+    V, F: the mesh the texture coordinates belong to (the input, or the input cut to disks);
+    uv: (k, 2) float64, one row per vertex of V (NaN rows for vertices no face uses); cut: the
+    :class:`CutMesh` when the input had to be cut (its first n vertices are the input's, seam
+    copies appended), else None (then V, F are the input); method: the method's name; distortion: the
     :class:`meshsmith.geometry.TriangleDistortion` of the map; bijective: :func:`is_bijective`.
     """
 
-    V: np.ndarray
-    F: np.ndarray
-    uv: np.ndarray
+    V: FloatArray
+    F: IndexArray
+    uv: FloatArray
     cut: CutMesh | None
     method: str
-    distortion: object
+    distortion: TriangleDistortion
     bijective: bool
 
     def summary(self) -> dict[str, object]:
@@ -64,19 +71,71 @@ class Parametrization:
                 "seam edges": 0 if self.cut is None else int(len(self.cut.seam_edges))}
 
 
-def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization:
+@positional_options("method")
+def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: ProgressCallback = None
+                ) -> Parametrization:
     """Parametrize any clean manifold mesh with one of :data:`PARAMETRIZATION_METHODS`.
 
-    A mesh that is not a topological disk (closed, higher genus, several holes) is first cut
-    with :func:`cut_to_disk`. "abf" / "abf++" use :func:`abf`.
+    Each connected component is a chart: one that is not a topological disk (closed, higher
+    genus, several holes) is first cut with :func:`cut_to_disk`, then flattened; the charts are
+    laid side by side along u (in component order, each to the right of the previous one, a gap
+    of 5% of the tallest chart between them), so the atlas is bijective when every chart is.
+    "abf" / "abf++" use :func:`abf`. Vertices no face uses are left out and get NaN rows in uv.
     V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback
     ``(fraction, stage) -> bool`` of the method's own iterations (stretch, abf, abf++).
     Returns a :class:`Parametrization`. Raises InputError for an unknown method or bad input
-    (see :func:`cut_to_disk`).
+    (a non-manifold or inconsistently oriented mesh: clean it first with
+    :func:`meshsmith.repair.clean`, ``meshsmith clean`` on the command line; see :func:`cut_to_disk`).
     """
+    _arguments.progress(progress)  # checked here: not every method calls it
     if method not in PARAMETRIZATION_METHODS:
         raise InputError(f"unknown parametrization method {method!r}: expected one of "
                          + ", ".join(PARAMETRIZATION_METHODS))
+    core.validate_mesh(V, F)
+    V, F = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    manifold = topology.is_manifold(F)
+    components = topology.connected_components(F, len(V))
+    if not manifold or components.count == 1:
+        charts = [on_referenced_vertices(V, F)]   # a non-manifold mesh is refused by the map's checks
+        chart_faces = [np.arange(len(F))]
+    else:
+        order = np.argsort(components.face_labels, kind="stable")
+        chart_faces = np.split(order, np.cumsum(np.bincount(components.face_labels))[:-1])
+        charts = [on_referenced_vertices(V, F[faces]) for faces in chart_faces]
+    flattened = [_flatten_chart(chart.V, chart.F, method, progress) for chart in charts]
+
+    # The atlas on the input's vertex numbering: input vertices first, seam copies appended.
+    copies = [len(chart_uv) - len(chart.V) for chart, (_, chart_uv) in zip(charts, flattened)]
+    n = len(V)
+    uv = np.full((n + sum(copies), 2), np.nan)
+    F_out = F.copy()
+    origin, seams, offset, first_copy = [np.arange(n, dtype=np.int64)], [], 0.0, n
+    gap = 0.05 * max(float(np.ptp(chart_uv[:, 1])) for _, chart_uv in flattened)
+    for chart, faces, (cut, chart_uv), extra in zip(charts, chart_faces, flattened, copies):
+        kept = len(chart.V)
+        renumber = np.concatenate([chart.vertex_map, first_copy + np.arange(extra, dtype=np.int64)])
+        chart_uv = chart_uv - [chart_uv[:, 0].min() - offset, 0.0]
+        offset = float(chart_uv[:, 0].max()) + gap
+        uv[renumber] = chart_uv
+        if cut is not None:
+            F_out[faces] = renumber[cut.F]
+            origin.append(chart.vertex_map[cut.vertex_origin[kept:]])
+            seams.append(chart.vertex_map[cut.seam_edges])
+        first_copy += extra
+    cut = None
+    if seams:
+        seam_edges = np.concatenate(seams)
+        seam_edges = seam_edges[np.lexsort((seam_edges[:, 1], seam_edges[:, 0]))]
+        cut = CutMesh(V=np.concatenate([V, V[np.concatenate(origin[1:])]]), F=F_out,
+                      vertex_origin=np.concatenate(origin), seam_edges=seam_edges)
+    mesh_V = V if cut is None else cut.V
+    used_uv = np.where(np.isnan(uv), 0.0, uv)   # unreferenced rows touch no face
+    return Parametrization(mesh_V, F_out, uv, cut, method, geometry.triangle_distortion(mesh_V, F_out, used_uv),
+                           is_bijective(used_uv, F_out))
+
+
+def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress: ProgressCallback) -> tuple[CutMesh | None, np.ndarray]:
+    """One chart (a connected mesh, every vertex used): (its cut or None, UV on the cut's vertices)."""
     info = topology.info(V, F)
     cut = None
     if not (info.n_boundary_loops == 1 and info.euler_characteristic == 1):
@@ -92,5 +151,4 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
         uv = lscm(V, F)
     else:
         uv = abf(V, F, method=method, progress=progress).uv
-    return Parametrization(np.asarray(V), np.asarray(F), uv, cut, method,
-                           geometry.triangle_distortion(V, F, uv), is_bijective(uv, F))
+    return cut, uv
