@@ -219,7 +219,7 @@ def test_curvature_command_gives_the_api_default(sphere_file, tmp_path, kind, fl
 
 def test_curvature_pointwise_is_for_gaussian_only(sphere_file, tmp_path):
     result = run("curvature", sphere_file, "--kind", "mean", "--pointwise", "-o", tmp_path / "h.npy")
-    assert result.returncode == 1 and "--pointwise" in result.stderr
+    assert result.returncode == 2 and "--pointwise" in result.stderr   # a flag combination: usage
 
 
 def test_curvature_picture_and_bad_output(sphere_file, tmp_path):

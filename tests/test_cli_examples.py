@@ -130,6 +130,8 @@ BAD_USAGE = [
     (["render", "{mesh}", "-o", "{tmp}/x.png", "--range", "0", "1"], 2, "--scalar"),
     (["render", "{mesh}", "-o", "{tmp}/missing/x.png"], 1, "does not exist"),
     (["curvature", "{mesh}", "-o", "{tmp}/c.jpg"], 2, ".png"),
+    (["curvature", "{mesh}", "-o", "{tmp}/c.npy", "--range", "0", "1"], 2, "--range"),
+    (["curvature", "{mesh}", "--kind", "mean", "--pointwise", "-o", "{tmp}/c.npy"], 2, "--pointwise"),
     (["decimate", "{mesh}", "-o", "{tmp}/d.obj", "--faces", "0"], 2, "--faces"),
     (["decimate", "{mesh}", "-o", "{tmp}/d.obj", "--error", "-1"], 2, "--error"),
     (["decimate", "{mesh}", "-o", "{tmp}/d.obj", "--ratio", "1.5"], 2, "--ratio"),

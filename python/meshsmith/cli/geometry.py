@@ -39,6 +39,8 @@ def command_curvature(args: argparse.Namespace) -> int:
     picture = Path(args.output).suffix.lower() == ".png"
     if not picture and (args.range is not None or args.cmap is not None):
         raise UsageError("--range and --cmap are for a .png picture; the .npy file holds the values")
+    if args.pointwise and args.kind != "gaussian":
+        raise UsageError(f"--pointwise applies to --kind gaussian only: {args.kind} is per unit length already")
     V, F = read_mesh(args.input)
     values, label = curvature_field(args.kind, V, F, pointwise=args.pointwise)
     if picture:
