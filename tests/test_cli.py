@@ -219,7 +219,7 @@ def test_curvature_command_gives_the_api_default(sphere_file, tmp_path, kind, fl
 
 def test_curvature_pointwise_is_for_gaussian_only(sphere_file, tmp_path):
     result = run("curvature", sphere_file, "--kind", "mean", "--pointwise", "-o", tmp_path / "h.npy")
-    assert result.returncode == 1 and "--pointwise" in result.stderr
+    assert result.returncode == 2 and "--pointwise" in result.stderr   # a flag combination: usage
 
 
 def test_curvature_picture_and_bad_output(sphere_file, tmp_path):
@@ -227,8 +227,8 @@ def test_curvature_picture_and_bad_output(sphere_file, tmp_path):
     assert run("curvature", sphere_file, "-o", tmp_path / "h.png", "--width", "300", "--height", "200").returncode == 0
     with Image.open(tmp_path / "h.png") as image:
         assert image.size == (300, 200)
-    result = run("curvature", sphere_file, "-o", tmp_path / "h.txt")
-    assert result.returncode == 1 and ".png" in result.stderr
+    result = run("curvature", sphere_file, "-o", tmp_path / "h.txt")   # checked before any work: usage
+    assert result.returncode == 2 and ".png" in result.stderr
 
 
 SQUARE_WITH_HOLE = """# unit square with a square hole (Triangle's .poly format, ids from 1)

@@ -139,6 +139,8 @@ VALID = {
     "render.frame_camera": {"size": (64, 48)},
     "render.colormap": {"name": "viridis", "steps": 16},
     "render.scalar_range": {"scalar": SPHERE_V[:, 0].copy(), "vertex_count": 42},
+    "render.default_colormap": {"scalar": SPHERE_V[:, 0].copy()},
+    "render.clipped_ends": {"scalar": SPHERE_V[:, 0].copy(), "low": -0.5, "high": 0.5},
     "render.render": {"size": (40, 30), "scalar": SPHERE_V[:, 2].copy(), "uv": SPHERE_V[:, :2].copy(),
                       "supersample": 1, "columns": 1, "checker_size": 0.2},
     "render.render_uv_layout": {"UV": DISK_UV, "F": DISK_F, "size": (40, 40), "scalar": DISK_V[:, 0].copy(),

@@ -56,7 +56,8 @@ void bind_decimation_progressive(py::module_& m) {
 
   m.def("progressive_mesh_from_collapses",
         [](const py::object& V, const py::object& F, const py::object& vertices, const py::object& removed_position,
-           const py::object& kept_position_before, const py::object& kept_position_after) {
+           const py::object& kept_position_before, const py::object& kept_position_after,
+           const py::object& callback) {
     const MeshArguments mesh(V, F);
     const IndexArray ids = as_index_matrix(vertices, "collapse vertices", 4);
     const RealArray removed = as_real_matrix(removed_position, "removed_position", 3);
@@ -76,9 +77,10 @@ void bind_decimation_progressive(py::module_& m) {
         records[i].kept_position_after(c) = a(i, c);
       }
     }
-    return without_gil([&] { return decimation::progressive_mesh_from_collapses(mesh.V(), mesh.F(), records); });
+    const Progress progress = make_progress(callback);
+    return without_gil([&] { return decimation::progressive_mesh_from_collapses(mesh.V(), mesh.F(), records, progress); });
   }, py::arg("V"), py::arg("F"), py::arg("vertices"), py::arg("removed_position"),
-     py::arg("kept_position_before"), py::arg("kept_position_after"),
+     py::arg("kept_position_before"), py::arg("kept_position_after"), py::arg("progress") = py::none(),
      "ProgressiveMesh from collapses in the order performed: vertices (k, 4) = removed, kept, left, right.");
 
   m.def("load_progressive_mesh", [](const std::string& path) {

@@ -19,12 +19,6 @@ using render::RenderOptions;
 
 Eigen::Vector3d as_color(const std::array<double, 3>& c) { return {c[0], c[1], c[2]}; }
 
-render::UpAxis as_up_axis(const std::string& up) {
-  if (up == "y") return render::UpAxis::y;
-  if (up == "z") return render::UpAxis::z;
-  throw InputError("unknown up axis '" + up + "': use 'y' or 'z'");
-}
-
 py::dict camera_to_dict(const Camera& camera) {
   py::dict out;
   out["eye"] = std::array<double, 3>{camera.eye[0], camera.eye[1], camera.eye[2]};
@@ -46,7 +40,7 @@ void bind_render(py::module_& m) {
     render::FramingOptions options;
     options.azimuth_deg = azimuth_deg;
     options.elevation_deg = elevation_deg;
-    options.up = as_up_axis(up);
+    options.up = render::up_axis_from_name(up);
     options.aspect = aspect;
     options.fov_y_deg = fov_y_deg;
     options.orthographic = orthographic;

@@ -10,12 +10,18 @@ the title and the colour bar; Pillow (``pip install 'meshsmith[viz]'``) draws th
 writes the PNG.
 
     >>> image = render(V, F, "bunny.png")                        # (600, 800, 3) uint8
-    >>> render(V, F, "curv.png", scalar=H, cmap="coolwarm", scalar_label="mean curvature")
+    >>> render(V, F, "curv.png", scalar=H, scalar_label="mean curvature")   # diverging map: H changes sign
     >>> render(V, F, "views.png", views=["front", "left", "top", "three-quarter"])
 
-Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data); the front view
-looks from +y-up's +z axis towards -z (from -y with ``up="z"``); azimuth turns the camera about
-the up axis towards +x (the right view), elevation lifts it (the top view looks down).
+Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data; any of x, y, z,
+-x, -y, -z); the front view looks from +z towards -z (from -y with ``up="z"`` or ``"-z"``);
+azimuth turns the camera about the up axis towards screen right (+x for y and z up: the right
+view), elevation lifts it (the top view looks down the up axis).
+
+Colours: a scalar field is drawn with a sequential map (viridis) when it has one sign and with a
+diverging map centred on 0 (coolwarm) when it changes sign, unless `cmap` says otherwise. Its
+range is the 2nd to 98th percentile unless `scalar_range` is given; values outside the range take
+the end colours, and the colour bar then shows a triangle (an overflow arrow) at that end.
 """
 from __future__ import annotations
 
@@ -38,6 +44,7 @@ if TYPE_CHECKING:
     from .parametrization import Parametrization
 
 __all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "ViewAngles", "ScalarRange", "view_angles", "frame_camera", "colormap", "scalar_range",
+           "default_colormap", "clipped_ends",
            "render", "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
 
 #: A view: a name from :data:`VIEWS` or an (azimuth, elevation) pair in degrees.
@@ -123,8 +130,8 @@ def frame_camera(V: ArrayLike, *, view: View = "three-quarter", size: tuple[int,
     """The camera that frames the vertices V from a view, as tightly as `margin` allows.
 
     V: (n, 3) float array. view: a name from :data:`VIEWS` or (azimuth, elevation) in degrees.
-    size: (width, height) of the picture (its aspect ratio matters). up: "y" or "z", the world
-    axis that points up. fov: vertical field of view in degrees (perspective). margin: free
+    size: (width, height) of the picture (its aspect ratio matters). up: the world axis that
+    points up: "y", "z", "x", "-x", "-y" or "-z". fov: vertical field of view in degrees (perspective). margin: free
     border on the tight side as a fraction of the picture size, in [0, 0.45).
     The perspective distance and the lateral offset are solved exactly so every vertex is in
     view and the silhouette is centred. Raises InputError for bad arguments.
@@ -144,14 +151,28 @@ def colormap(name: str, steps: int = 256) -> FloatArray:
     return _core.colormap_table(name, steps)
 
 
-def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str = "viridis") -> ScalarRange:
+def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str | None = None) -> ScalarRange:
     """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
 
-    For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
+    For a diverging colormap (coolwarm; the default for a field that changes sign, see
+    :func:`default_colormap`) and a field whose range contains zero, the range is made
     symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
     Raises InputError for a wrong length or a NaN/Inf (naming the first one).
     """
-    return _robust_range(scalar, vertex_count, cmap)
+    return _robust_range(scalar, vertex_count, default_colormap(scalar) if cmap is None else cmap)
+
+
+def default_colormap(scalar: ArrayLike) -> str:
+    """The colormap :func:`render` uses for a field when `cmap` is not given: "coolwarm"
+    (diverging, centred on 0) when the values change sign, else "viridis" (sequential)."""
+    values = _finite_scalar(scalar)
+    return "coolwarm" if values.size and values.min() < 0.0 < values.max() else "viridis"
+
+
+def clipped_ends(scalar: ArrayLike, low: float, high: float) -> tuple[bool, bool]:
+    """(some value < low, some value > high): which ends of the colour bar get an overflow arrow."""
+    values = _finite_scalar(scalar)
+    return bool(values.size and values.min() < low), bool(values.size and values.max() > high)
 
 
 def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRange:
@@ -163,7 +184,7 @@ def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRang
 def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),
            view: View = "three-quarter", views: Sequence[View] | None = None, columns: int | None = None,
            camera: Camera | None = None, up: str = "y", projection: str = "perspective", fov: float = 30.0,
-           scalar: ArrayLike | None = None, cmap: str = "viridis", scalar_range: tuple[float, float] | None = None,
+           scalar: ArrayLike | None = None, cmap: str | None = None, scalar_range: tuple[float, float] | None = None,
            scalar_label: str | None = None, colorbar: bool | None = None,
            wireframe: bool | Literal["auto"] = False, wireframe_width: float = 1.0, uv: ArrayLike | None = None,
            checker_size: float | None = None, flat: bool = False, crease_angle: float = 60.0,
@@ -181,15 +202,19 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
         all in one row up to 3 views, else ceil(sqrt(k))); the picture is then exactly
         (columns * width, rows * height) and each panel is labelled with its view.
     camera: a :class:`Camera` to use instead of framing `view` automatically (single view only).
-    up: "y" or "z", the world axis that points up. projection: "perspective" or "orthographic".
+    up: the world axis that points up: "y" (default), "z", "x", "-x", "-y" or "-z".
+    projection: "perspective" or "orthographic".
     fov: vertical field of view in degrees of the perspective camera.
     scalar: (n,) float array, one finite value per vertex, interpolated per pixel and coloured
-        through `cmap` ("viridis", "magma" or "coolwarm").
+        through `cmap` ("viridis", "magma" or "coolwarm"; default: :func:`default_colormap`,
+        coolwarm centred on 0 when the values change sign, else viridis).
     scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
-        percentiles, symmetric about 0 for coolwarm when the values change sign.
+        percentiles, symmetric about 0 for coolwarm when the values change sign. Values
+        outside take the end colours.
     scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
         `scalar` is given and the picture is wide enough); it shows the low, middle and high
-        values of the range.
+        values of the range, and an overflow arrow (a triangle in the end colour) at each end
+        beyond which some values were clipped.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
         wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
@@ -222,6 +247,8 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
         raise InputError("camera and several views are exclusive: give one or the other")
     if projection not in ("perspective", "orthographic"):
         raise InputError(f"unknown projection '{projection}': use 'perspective' or 'orthographic'")
+    if cmap is None:
+        cmap = "viridis" if scalar is None else default_colormap(scalar)
     if cmap not in COLORMAPS:
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
@@ -231,12 +258,14 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
     n_vertices, n_faces = _validated_counts(V, F)
 
     low = high = None
+    clipped = (False, False)
     colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
             low, high = _robust_range(scalar, n_vertices, cmap)
         else:
             low, high = _check_range(scalar_range)
+        clipped = clipped_ends(scalar, low, high)
         if colorbar is None:
             colorbar = True
     colorbar = bool(colorbar) and scalar is not None
@@ -294,7 +323,7 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
 
     if title or colorbar or labels:
         canvas = _annotate(canvas, title=title, title_height=title_height, labels=labels,
-                           colorbar=(cmap, low, high, scalar_label, bar_width) if colorbar else None,
+                           colorbar=(cmap, low, high, scalar_label, bar_width, clipped) if colorbar else None,
                            transparent=transparent)
     if path is not None:
         save_png(canvas, path)
@@ -302,7 +331,7 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
 
 
 def render_uv_layout(UV: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 800),
-                     scalar: ArrayLike | None = None, cmap: str = "viridis",
+                     scalar: ArrayLike | None = None, cmap: str | None = None,
                      scalar_range: tuple[float, float] | None = None, scalar_label: str | None = None,
                      title: str | None = None, background: Color | tuple[Color, Color] = "white",
                      supersample: int = 3) -> np.ndarray:
@@ -462,6 +491,12 @@ def _check_size(size: Any) -> tuple[int, int]:
             _arguments.integer(height, "size[1] (height)", 1, _core.max_image_side))
 
 
+def _finite_scalar(scalar: ArrayLike) -> np.ndarray:
+    """The finite values of a (n,) scalar, for choosing the colormap (the core checks it fully later)."""
+    values = _arguments.real_array(scalar, "scalar")
+    return values[np.isfinite(values)]
+
+
 def _check_range(value: Any) -> tuple[float, float]:
     try:
         low, high = (float(v) for v in value)
@@ -608,22 +643,46 @@ def _annotate(canvas: np.ndarray, *, title: str | None, title_height: int, label
             text = name if isinstance(name, str) else f"az {name[0]:g}°, el {name[1]:g}°"
             draw.text((x + 8, y + 6), text, fill=text_fill, font=font)
     if colorbar is not None:
-        cmap, low, high, label, bar_width = colorbar
-        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill)
+        cmap, low, high, label, bar_width, clipped = colorbar
+        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill, clipped)
     return np.asarray(image).copy()
 
 
-def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill):
+@dataclass(frozen=True)
+class _ColorbarLayout:
+    """Where the colour bar goes in a picture: the bar's left x, top y, thickness and height in
+    pixels, the height of the overflow arrows drawn above and below it, and the font size."""
+
+    x: int
+    y: int
+    thickness: int
+    height: int
+    arrow: int
+    font_size: int
+
+
+def _colorbar_layout(width: int, height: int, bar_width: int, top_offset: int) -> _ColorbarLayout:
+    """The colour bar's place in a (width, height) picture whose rightmost `bar_width` columns
+    below `top_offset` (the title band) hold it."""
+    strip_x = width - bar_width
+    available = height - top_offset
+    thickness = max(10, min(22, bar_width // 5))
+    arrow = max(6, thickness * 3 // 4)
+    bar_height = max(10, int(available * 0.62) - 2 * arrow)
+    font_size = max(10, min(16, bar_width // 6, available // 22))
+    x = strip_x + max(6, bar_width // 8)
+    y = top_offset + (available - bar_height) // 2 + font_size // 2
+    return _ColorbarLayout(x, y, thickness, bar_height, arrow, font_size)
+
+
+def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill, clipped):
     Image, _, _ = _pillow()
     width, height = image.size
     strip_x = width - bar_width
-    available = height - top_offset
-    bar_height = max(10, int(available * 0.62))
-    bar_thickness = max(10, min(22, bar_width // 5))
-    font_size = max(10, min(16, bar_width // 6, available // 22))
+    layout = _colorbar_layout(width, height, bar_width, top_offset)
+    bar_x, bar_y, bar_thickness, bar_height = layout.x, layout.y, layout.thickness, layout.height
+    font_size = layout.font_size
     font = _font(font_size)
-    bar_x = strip_x + max(6, bar_width // 8)
-    bar_y = top_offset + (available - bar_height) // 2 + font_size // 2
     table = colormap(cmap, bar_height)[::-1]  # high values on top
     pixels = np.clip(np.rint(table * 255.0), 0, 255).astype(np.uint8)
     bar = np.broadcast_to(pixels[:, None, :], (bar_height, bar_thickness, 3))
@@ -632,6 +691,19 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
     image.paste(bar_image, (bar_x, bar_y))
     outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
     draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
+    # Overflow arrows: a triangle in the end colour where values beyond the range were clipped.
+    alpha = (255,) if mode == "RGBA" else ()
+    below, above = clipped
+    if above:
+        top = bar_y - 2
+        draw.polygon([(bar_x - 1, top), (bar_x + bar_thickness, top),
+                      ((2 * bar_x + bar_thickness - 1) / 2, top - layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[0]) + alpha, outline=outline)
+    if below:
+        bottom = bar_y + bar_height + 1
+        draw.polygon([(bar_x - 1, bottom), (bar_x + bar_thickness, bottom),
+                      ((2 * bar_x + bar_thickness - 1) / 2, bottom + layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[-1]) + alpha, outline=outline)
     values = [high, (low + high) / 2.0, low]
     positions = [bar_y, bar_y + bar_height // 2, bar_y + bar_height - 1]
     for text, y in zip(_format_ticks(values), positions):
@@ -648,14 +720,15 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
         if draw.textlength(str(label), font=label_font) > room:
             lines = str(label).split()
         for k, line in enumerate(reversed(lines)):
-            draw.text((strip_x + bar_width // 2, bar_y - font_size // 2 - 6 - k * (size + 3)), line,
+            draw.text((strip_x + bar_width // 2, bar_y - layout.arrow - font_size // 2 - 6 - k * (size + 3)), line,
                       fill=text_fill, font=label_font, anchor="ms")
 
 
 def save_png(canvas: np.ndarray, path: PathLike) -> None:
     """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
 
-    Raises InputError for a canvas that is not such an array, or when the folder does not exist."""
+    Raises InputError for a canvas that is not such an array, a file name that does not end in
+    .png, or when the folder does not exist."""
     if not (isinstance(canvas, np.ndarray) and canvas.dtype == np.uint8 and canvas.ndim == 3
             and canvas.shape[2] in (3, 4) and canvas.size):
         shape = getattr(canvas, "shape", None)
@@ -663,6 +736,8 @@ def save_png(canvas: np.ndarray, path: PathLike) -> None:
                          f"got {type(canvas).__name__}" + (f" {canvas.dtype} {shape}" if shape is not None else ""))
     Image, _, _ = _pillow()
     path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise InputError(f"cannot write {path}: pictures are written as PNG; name the file .png")
     if path.parent and not path.parent.exists():
         raise InputError(f"cannot write {path}: folder {path.parent} does not exist")
     Image.fromarray(canvas, "RGBA" if canvas.shape[2] == 4 else "RGB").save(path, optimize=False)

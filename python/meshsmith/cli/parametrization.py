@@ -8,12 +8,15 @@ import numpy as np
 
 from .. import InputError, io, parametrization, render
 from ..parametrization import PARAMETRIZATION_METHODS
-from .common import ProgressBar, read_mesh
+from .common import ProgressBar, add_command, check_output, read_mesh
 
 
 def command_parametrize(args: argparse.Namespace) -> int:
     if not args.output.lower().endswith(".obj"):
         raise InputError(f"output {args.output}: texture coordinates are written as OBJ 'vt' lines; use a .obj file")
+    check_output(args.output, (".obj",), "-o")
+    if args.picture:
+        check_output(args.picture, (".png",), "--picture")
     V, F = read_mesh(args.input)
     result = parametrization.parametrize(V, F, method=args.method, progress=ProgressBar())
     # Positions stay those of the input; texture coordinates are per cut vertex (seams included),
@@ -31,11 +34,14 @@ def command_parametrize(args: argparse.Namespace) -> int:
 
 def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    parametrize = commands.add_parser(
-        "parametrize", help="flatten a mesh: write texture coordinates (OBJ vt)",
+    parametrize = add_command(
+        commands, "parametrize", help="flatten a mesh: write texture coordinates (OBJ vt)",
         description="Parametrization (§5.1): " + "; ".join(f"{name}: {what}" for name, what in
                                                            PARAMETRIZATION_METHODS.items())
-        + ". A mesh that is not a disk is cut with a spanning-tree cut graph first. Prints the distortion.")
+        + ". A mesh that is not a disk is cut with a spanning-tree cut graph first. Prints the distortion.",
+        examples=["meshsmith parametrize disk.obj -o lscm.obj",
+                  "meshsmith parametrize disk.obj --method abf++ -o abf.obj --picture abf.png",
+                  "meshsmith parametrize mesh.off --method harmonic -o harmonic.obj"])
     parametrize.add_argument("input", help="mesh file (.obj, .ply, .off, .stl)")
     parametrize.add_argument("--method", choices=list(PARAMETRIZATION_METHODS), default="lscm",
                              help="default: lscm")

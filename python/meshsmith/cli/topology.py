@@ -5,7 +5,7 @@ import argparse
 import json
 
 from .. import topology
-from .common import read_mesh
+from .common import add_command, read_mesh
 
 
 def command_info(args: argparse.Namespace) -> int:
@@ -21,9 +21,11 @@ def command_info(args: argparse.Namespace) -> int:
 
 def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    info = commands.add_parser("info", help="counts, topology, bounding box, area and volume of a mesh",
-                               description="Print counts, topology (components, boundary loops, genus, "
-                                           "manifoldness, orientation), bounding box, area and volume.")
+    info = add_command(
+        commands, "info", help="counts, topology, bounding box, area and volume of a mesh",
+        description="Print counts, topology (components, boundary loops, genus, manifoldness, orientation), "
+                    "bounding box, area and volume.",
+        examples=["meshsmith info mesh.off", "meshsmith info mesh.off --json"])
     info.add_argument("file", help="mesh file (OBJ, OFF, PLY, STL)")
     info.add_argument("--json", action="store_true", help="print the figures as JSON")
     info.set_defaults(run=command_info)

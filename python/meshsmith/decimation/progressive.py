@@ -210,4 +210,4 @@ def progressive_mesh(V: ArrayLike, F: ArrayLike, **decimate_options: Any) -> Pro
         else np.zeros((0, 4), dtype=np.int64)
     return ProgressiveMesh(_core.progressive_mesh_from_collapses(
         V, F, vertices, c["removed_position"].reshape(-1, 3), c["kept_position_before"].reshape(-1, 3),
-        c["kept_position_after"].reshape(-1, 3)))
+        c["kept_position_after"].reshape(-1, 3), decimate_options.get("progress")))

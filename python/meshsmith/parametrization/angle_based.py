@@ -54,13 +54,14 @@ def abf(V: ArrayLike, F: ArrayLike, *, method: str = "abf++", max_iterations: in
     one boundary loop, no zero-area face (needles are fine: their beta are clamped to
     minimum_angle); vertices no face uses get NaN rows in uv.
     method: "abf++" solves each Newton step through the reduced system of ABF++ (CHOLMOD on a
-    2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU (the same
-    iterates, much slower: for comparison). max_iterations bounds the Newton iterations;
+    2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU, its
+    unknowns ordered angles first (the same iterates, about twice as slow: for comparison). max_iterations bounds the Newton iterations;
     tolerance is on the constraint residual (infinity-norm, see :class:`AbfResult`).
     minimum_angle (radians, in (0, pi/6)) clamps beta. progress: optional callable
     ``(fraction, stage) -> bool`` called once per Newton iteration (stage
-    "ABF++ Newton iteration k, residual r"), throttled to one call per 50 ms; returning False
-    raises :class:`meshsmith.Cancelled`.
+    "ABF++ Newton iteration k, residual r") and, for "abf", around each factorization,
+    throttled to one call per 50 ms; returning False raises :class:`meshsmith.Cancelled`, and
+    Ctrl-C raises KeyboardInterrupt at the next call.
 
     Returns an :class:`AbfResult`. Raises InputError for a closed mesh (cut it first with
     ``parametrization.cut_to_disk``), several boundary loops or components, a non-manifold or

@@ -81,7 +81,8 @@ def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: P
     laid side by side along u (in component order, each to the right of the previous one, a gap
     of 5% of the tallest chart between them), so the atlas is bijective when every chart is.
     "abf" / "abf++" use :func:`abf`. Vertices no face uses are left out and get NaN rows in uv.
-    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback (stretch only).
+    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback
+    ``(fraction, stage) -> bool`` of the method's own iterations (stretch, abf, abf++).
     Returns a :class:`Parametrization`. Raises InputError for an unknown method or bad input
     (a non-manifold or inconsistently oriented mesh: clean it first with
     :func:`meshsmith.repair.clean`, ``meshsmith clean`` on the command line; see :func:`cut_to_disk`).
@@ -149,5 +150,5 @@ def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress: Progress
     elif method == "lscm":
         uv = lscm(V, F)
     else:
-        uv = abf(V, F, method=method).uv
+        uv = abf(V, F, method=method, progress=progress).uv
     return cut, uv
