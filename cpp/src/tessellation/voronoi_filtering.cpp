@@ -169,11 +169,13 @@ Eigen::VectorXd local_feature_size(const Eigen::Ref<const Eigen::MatrixXd>& samp
   axis_points.leftCols(2) = axis.vertices;
   const points::KdTree tree(axis_points);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double query[3] = {samples(i, 0), samples(i, 1), 0.0};
+    const double sample[3] = {samples(i, 0), samples(i, 1), 0.0};
+    double query[3];
+    tree.frame().normalize_point(sample, query);
     std::uint32_t nearest = 0;
     double squared = 0.0;
     tree.nearest(query, 1, &nearest, &squared);
-    lfs(i) = std::sqrt(squared);
+    lfs(i) = tree.frame().to_input(std::sqrt(squared), 1, "local_feature_size: a distance");
   }
   return lfs;
 }
