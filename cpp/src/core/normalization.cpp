@@ -1,9 +1,5 @@
-// Normalized coordinates (core/normalization.h). Everything here is a power-of-two scaling
-// (std::ldexp, exact) and one subtraction per coordinate, done after the scaling so that
-// nothing overflows: the centre is the bounding-box midpoint lo/2 + hi/2, the half extent
-// hi/2 − lo/2, both within the double range for any finite input. Scaling the input by 2^k
-// scales the centre and the half extent by exactly 2^k (outside the denormal range), so the
-// exponent moves by k and the normalized points are bit-identical.
+// Normalized coordinates (core/normalization.h): every operation here is a power-of-two
+// scaling (std::ldexp), exact in both directions outside the denormal range.
 #include <meshsmith/core/normalization.h>
 
 #include <meshsmith/core/errors.h>
@@ -15,71 +11,50 @@ namespace meshsmith {
 
 namespace {
 
-std::string overflow_message(const char* what, double value, int power, int exponent) {
-  int mantissa_exponent = 0;
-  std::frexp(value, &mantissa_exponent);
-  return std::string(what) + ": the value is about 2^" + std::to_string(mantissa_exponent + power * exponent) +
-         ", beyond the double range (about 2^1024): the input coordinates (lengths up to 2^" +
-         std::to_string(exponent) + ") are too large for a quantity of unit length^" + std::to_string(power) +
-         "; scale the input down";
+std::string overflow_message(const std::string& what, double value, int power, int exponent) {
+  int value_exponent = 0;
+  std::frexp(value, &value_exponent);
+  return what + " is about 2^" + std::to_string(value_exponent + power * exponent) +
+         ", beyond the double range (2^1024): with coordinates up to 2^" + std::to_string(exponent) +
+         " a quantity of unit length^" + std::to_string(power) + " does not fit; scale the input down";
 }
 
 }  // namespace
 
 CoordinateFrame normalizing_frame(const PointRef& X) {
   CoordinateFrame frame;
-  const Eigen::Index d = X.cols();
-  frame.centre.resize(d);
-  double half_extent = 0.0, largest_centre = 0.0;
-  for (Eigen::Index j = 0; j < d; ++j) {
-    const double lo = X.col(j).minCoeff(), hi = X.col(j).maxCoeff();
-    frame.centre(j) = 0.5 * lo + 0.5 * hi;
-    half_extent = std::max(half_extent, 0.5 * hi - 0.5 * lo);
-    largest_centre = std::max(largest_centre, std::abs(frame.centre(j)));
-  }
-  // |x − centre| <= half_extent (plus half an ulp of the centre) < 2^(q+1) with half_extent in
-  // [2^(q−1), 2^q): the normalized coordinates lie in (−1, 1), away from both ends.
-  const double reference = half_extent > 0.0 ? half_extent : largest_centre;
-  if (reference > 0.0) {
-    int q = 0;
-    std::frexp(reference, &q);
-    frame.exponent = q + 1;
-  }
+  const double largest = X.size() > 0 ? X.cwiseAbs().maxCoeff() : 0.0;
+  if (largest > 0.0) std::frexp(largest, &frame.exponent);  // largest in [2^(e-1), 2^e)
   return frame;
 }
 
 PointMatrix CoordinateFrame::normalize(const PointRef& X) const {
   PointMatrix W(X.rows(), X.cols());
-  for (Eigen::Index j = 0; j < X.cols(); ++j) {
-    const double c = std::ldexp(centre(j), -exponent);
-    for (Eigen::Index i = 0; i < X.rows(); ++i) W(i, j) = std::ldexp(X(i, j), -exponent) - c;
-  }
+  for (Eigen::Index i = 0; i < X.rows(); ++i)
+    for (Eigen::Index j = 0; j < X.cols(); ++j) W(i, j) = std::ldexp(X(i, j), -exponent);
   return W;
 }
 
 VertexMatrix CoordinateFrame::normalize_vertices(const VertexRef& X) const {
   VertexMatrix W(X.rows(), 3);
-  const double c[3] = {std::ldexp(centre(0), -exponent), std::ldexp(centre(1), -exponent),
-                       std::ldexp(centre(2), -exponent)};
   for (Eigen::Index i = 0; i < X.rows(); ++i)
-    for (int j = 0; j < 3; ++j) W(i, j) = std::ldexp(X(i, j), -exponent) - c[j];
+    for (int j = 0; j < 3; ++j) W(i, j) = std::ldexp(X(i, j), -exponent);
   return W;
 }
 
-void CoordinateFrame::normalize_point(const double* in, double* out) const {
-  for (Eigen::Index j = 0; j < centre.size(); ++j)
-    out[j] = std::ldexp(in[j], -exponent) - std::ldexp(centre(j), -exponent);
+void CoordinateFrame::normalize_point(const double* in, double* out, int dimension) const {
+  for (int j = 0; j < dimension; ++j) out[j] = std::ldexp(in[j], -exponent);
 }
 
 PointMatrix CoordinateFrame::positions_to_input(const PointRef& W, const char* what) const {
   PointMatrix X(W.rows(), W.cols());
   for (Eigen::Index i = 0; i < W.rows(); ++i)
     for (Eigen::Index j = 0; j < W.cols(); ++j) {
-      X(i, j) = centre(j) + std::ldexp(W(i, j), exponent);
+      X(i, j) = std::ldexp(W(i, j), exponent);
       if (std::isfinite(W(i, j)) && !std::isfinite(X(i, j)))
-        throw InputError(std::string(what) + " row " + std::to_string(i) + ", coordinate " + std::to_string(j) +
-                         " lies beyond the double range once mapped back to the input's coordinates "
-                         "(lengths up to 2^" + std::to_string(exponent) + "); scale the input down");
+        throw InputError(overflow_message(std::string(what) + " " + std::to_string(i) + ", coordinate " +
+                                              std::to_string(j),
+                                          W(i, j), 1, exponent));
     }
   return X;
 }
@@ -98,8 +73,7 @@ void CoordinateFrame::to_input(double* values, Eigen::Index count, int power, co
   for (Eigen::Index i = 0; i < count; ++i) {
     const double result = std::ldexp(values[i], power * exponent);
     if (std::isfinite(values[i]) && !std::isfinite(result))
-      throw InputError(overflow_message((std::string(what) + " " + std::to_string(i)).c_str(), values[i], power,
-                                        exponent));
+      throw InputError(overflow_message(std::string(what) + " " + std::to_string(i), values[i], power, exponent));
     values[i] = result;
   }
 }

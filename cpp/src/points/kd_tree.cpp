@@ -76,7 +76,7 @@ class StrictKnnResultSet {
   std::size_t count_ = 0;
 };
 
-/// Normalized coordinates of a query point, its distance from the centre capped at about 2^27
+/// Normalized coordinates of a query point, its distance from the origin capped at about 2^27
 /// (same direction) so squared distances to the tree's points, which lie in (−1, 1), cannot
 /// overflow. The cap also keeps the ranking: from a query at distance R the squared distances
 /// R² − 2R·x + |p|² resolve differences of x down to R·2^-52 only, so beyond 2^27 the points
@@ -87,12 +87,10 @@ bool normalized_query(const CoordinateFrame& frame, const double* input, double*
   frame.normalize_point(input, query);
   const double largest = std::max({std::abs(query[0]), std::abs(query[1]), std::abs(query[2])});
   if (largest <= 0x1p27) return true;
-  // The direction of input − centre, at a scale where nothing overflows.
-  double t[3];
-  for (int j = 0; j < 3; ++j) t[j] = 0.5 * input[j] - 0.5 * frame.centre(j);
+  // The same direction from the origin (inside the points' box), at distance about 2^27.
   int e = 0;
-  std::frexp(std::max({std::abs(t[0]), std::abs(t[1]), std::abs(t[2])}), &e);
-  for (int j = 0; j < 3; ++j) query[j] = std::ldexp(t[j], 27 - e);
+  std::frexp(std::max({std::abs(input[0]), std::abs(input[1]), std::abs(input[2])}), &e);
+  for (int j = 0; j < 3; ++j) query[j] = std::ldexp(input[j], 27 - e);
   return false;
 }
 
