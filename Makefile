@@ -4,7 +4,7 @@ PYTHON ?= python3
 SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml scripts/bootstrap.sh
 STAMP := build/.installed-$(subst /,_,$(PYTHON))
 
-.PHONY: setup demo test bench clean
+.PHONY: setup demo test typecheck bench wheel sdist test-wheel clean
 setup: $(STAMP)
 
 $(STAMP): $(SOURCES)
@@ -17,10 +17,28 @@ demo: setup
 test: setup
 	$(PYTHON) -m pytest -q tests
 
+# The package's type annotations, checked against the installed numpy/scipy stubs (mypy is in the test extra).
+typecheck: setup
+	$(PYTHON) -m mypy python/meshsmith
+
 # Peers are installed only here (Open3D is large); `make bench CHAPTERS="io topology"` runs a subset.
 bench: setup
 	bash scripts/bootstrap.sh "$(PYTHON)" test,viz,bench
 	$(PYTHON) benchmarks/run_all.py $(CHAPTERS)
 
+# A manylinux wheel in dist/ with the Debian libraries it links copied in (auditwheel), built in
+# the same build directory as setup; `make test-wheel` installs it into a fresh venv under /tmp
+# and runs the whole suite against that install.
+wheel:
+	bash scripts/build_wheel.sh "$(PYTHON)"
+
+test-wheel: wheel
+	bash scripts/test_wheel.sh "$(PYTHON)"
+
+# dist/meshsmith-<version>.tar.gz, its contents checked; `make sdist SDIST_BUILD=--build` also
+# builds a wheel from it (cold, in a temporary directory).
+sdist:
+	bash scripts/build_sdist.sh "$(PYTHON)" $(SDIST_BUILD)
+
 clean:
-	rm -rf build demo-output
+	rm -rf build demo-output dist

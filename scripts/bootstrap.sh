@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what meshsmith needs on a Debian 12 machine with Python 3.11, then the package itself.
 #   scripts/bootstrap.sh [PYTHON] [EXTRAS]     e.g. scripts/bootstrap.sh python3 test,viz
+#   scripts/bootstrap.sh PYTHON --no-install   the Debian packages and build requirements only
 # Debian -dev packages are installed through apt-get only when absent; the package is built by
 # scikit-build-core into build/<wheel tag> (kept between runs, so rebuilds are incremental).
 set -euo pipefail
@@ -30,4 +31,6 @@ fi
 # Build requirements are installed into the running interpreter so the build can reuse its
 # build directory without isolation (an isolated build starts cold every time).
 "$PYTHON" -m pip install -q --disable-pip-version-check "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja
-"$PYTHON" -m pip install -q --disable-pip-version-check --no-build-isolation ".[${EXTRAS}]"
+if [[ "$EXTRAS" != --no-install ]]; then
+  "$PYTHON" -m pip install -q --disable-pip-version-check --no-build-isolation ".[${EXTRAS}]"
+fi

@@ -1,10 +1,26 @@
-"""Shared fixtures: the real meshes of ../shared/data (or $MESHSMITH_DATA), skipped when absent."""
+"""Shared fixtures: the real meshes of ../shared/data (or $MESHSMITH_DATA), skipped when absent.
+
+Under scripts/test_wheel.sh, $MESHSMITH_WHEEL_TEST names the wheel under test, and the session
+refuses to start unless meshsmith is imported from the wheel's install (meshsmith/ beside
+meshsmith.libs/) in the running virtualenv."""
 import os
+import sys
 from pathlib import Path
 
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
+WHEEL_UNDER_TEST = os.environ.get("MESHSMITH_WHEEL_TEST")
+
+
+def pytest_configure(config) -> None:
+    if WHEEL_UNDER_TEST:
+        import meshsmith
+        package = Path(meshsmith.__file__).resolve().parent
+        venv = Path(sys.prefix).resolve()
+        if venv not in package.parents or not (package.parent / "meshsmith.libs").is_dir():
+            raise pytest.UsageError(f"testing the wheel {WHEEL_UNDER_TEST}, but meshsmith was imported from "
+                                    f"{package}, not from a repaired wheel's install in the virtualenv {venv}")
 
 
 def shared_data_dir() -> Path | None:

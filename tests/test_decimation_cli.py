@@ -113,7 +113,7 @@ def test_progress_bar_is_used(torus_file, tmp_path, monkeypatch):
             calls.append((fraction, stage))
             return True
 
-    monkeypatch.setattr(cli, "ProgressBar", RecordingBar)
+    monkeypatch.setattr(cli.decimation, "ProgressBar", RecordingBar)  # the decimate command's module
     assert cli.main(["decimate", str(torus_file), "-o", str(tmp_path / "o.ply"), "--faces", "300"]) == 0
     assert calls and calls[-1][0] == 1.0
 

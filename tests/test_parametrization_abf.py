@@ -335,11 +335,13 @@ def test_non_manifold_input_is_rejected():
         parametrization.abf(V3, F3)
 
 
-def test_isolated_vertex_is_rejected():
+def test_isolated_vertex_gets_a_nan_row():
+    # Unreferenced vertices are left out and the map comes back on the caller's indices.
     V, F = datasets.disk(4, 12)
-    V2 = np.vstack([V, [[5.0, 5.0, 0.0]]])
-    with pytest.raises(meshsmith.InputError, match=f"vertex {len(V)} is used by no face"):
-        parametrization.abf(V2, F)
+    V2 = np.vstack([[[5.0, 5.0, 0.0]], V, [[6.0, 5.0, 0.0]]])
+    result = parametrization.abf(V2, F + 1)
+    assert np.isnan(result.uv[[0, len(V) + 1]]).all()
+    np.testing.assert_array_equal(result.uv[1:-1], parametrization.abf(V, F).uv)
 
 
 def test_face_repeating_a_vertex_is_rejected():

@@ -107,8 +107,12 @@ def test_cut_to_disk_bad_input():
     two = np.vstack([V, V + 3.0]), np.vstack([F, F + len(V)])
     with pytest.raises(meshsmith.InputError, match="connected components"):
         P.cut_to_disk(*two)
-    with pytest.raises(meshsmith.InputError, match="isolated vertex"):
-        P.cut_to_disk(np.vstack([V, [[9.0, 9.0, 9.0]]]), F)
+    # an isolated vertex is no error: it stays in the cut mesh, used by no face
+    cut = P.cut_to_disk(np.vstack([[[9.0, 9.0, 9.0]], V]), F + 1)
+    reference = P.cut_to_disk(V, F)
+    assert len(cut.V) == len(reference.V) + 1 and cut.vertex_origin[0] == 0 and 0 not in cut.F
+    np.testing.assert_array_equal(cut.seam_edges, reference.seam_edges + 1)
+    np.testing.assert_array_equal(cut.V[cut.F], reference.V[reference.F])
     with pytest.raises(meshsmith.InputError, match="non-manifold"):
         P.cut_to_disk(V, np.vstack([F, [[F[0, 0], F[0, 1], F[5, 2] if F[5, 2] not in F[0] else F[7, 2]]]]))
     flat = V.copy()
@@ -378,7 +382,6 @@ def test_lscm_bad_input():
     bad_inputs = {
         "closed": datasets.icosphere(2),
         "connected components": (np.vstack([V, V + 3.0]), np.vstack([F, F + len(V)])),
-        "isolated vertex": (np.vstack([V, [[5.0, 5.0, 5.0]]]), F),
         "zero area": (V, np.vstack([F, [[0, 1, 1]]])),
         "non-manifold": (np.vstack([V, [[0.0, 0.0, 1.0]]]),
                          np.vstack([F, [[F[0, 0], F[0, 1], len(V)]]])),
@@ -398,6 +401,14 @@ def test_lscm_bad_input():
         P.lscm(V, F, [3, 4])
     with pytest.raises(meshsmith.InputError, match="outside"):
         P.lscm(V, F, [3, 4000], np.eye(2))
+    # an isolated vertex is no error: its row is NaN, the others are the map without it
+    isolated = np.vstack([V, [[5.0, 5.0, 5.0]]])
+    for function in (P.lscm, P.harmonic, P.lscm_spectral, lambda V, F: P.stretch_minimizing(V, F).uv):
+        UV = function(isolated, F)
+        assert np.isnan(UV[-1]).all()
+        np.testing.assert_array_equal(UV[:-1], function(V, F))
+    with pytest.raises(meshsmith.InputError, match=f"pinned: vertex {len(V)} is used by no face"):
+        P.lscm(isolated, F, [3, len(V)], np.eye(2))
     # an annulus is fine for LSCM with explicit pins (any surface with a boundary)
     Va, Fa = _annulus()
     bnd = topology.boundary_loops(Fa)[0]

@@ -33,4 +33,6 @@ PYBIND11_MODULE(_core, m) {
   auto parametrization = m.def_submodule("parametrization");
   meshsmith::python::bind_parametrization_maps(parametrization);
   meshsmith::python::bind_parametrization_abf(parametrization);
+  auto repair = m.def_submodule("repair");
+  meshsmith::python::bind_repair(repair);
 }

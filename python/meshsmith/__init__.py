@@ -6,11 +6,11 @@ Chapters are submodules (``meshsmith.io``, ``meshsmith.topology``, ...); errors 
 and :class:`Cancelled` (a progress callback returned False).
 """
 from ._core import Cancelled, InputError, SolverError
-from . import (core, curves, datasets, decimation, geometry, io, parametrization, points, render, tessellation,
-               topology)
+from . import (core, curves, datasets, decimation, geometry, io, parametrization, points, render, repair,
+               tessellation, topology)
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "decimation", "parametrization",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
            "datasets",
            "__version__"]

@@ -388,6 +388,20 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     return canvas
 
 
+def parametrization_picture(path, result, title: str) -> None:
+    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard."""
+    corners = result.uv[result.F]  # per corner, so seams cut by cut_to_disk show in the texture
+    V, F = (result.cut.V, result.F) if result.cut is not None else (result.V, result.F)
+    uv = np.where(np.isnan(result.uv), corners[0, 0], result.uv)  # unreferenced vertices' NaN rows: out of the way
+    conformal = np.nan_to_num(result.distortion.vertex_conformal, nan=1.0)  # NaN: a vertex with no face
+    layout = render_uv_layout(uv, result.F, size=(640, 640), scalar=conformal,
+                                     scalar_range=(1.0, 2.0), scalar_label="angle distortion σ1/σ2",
+                                     title=f"UV layout ({result.method})")
+    checker = float(np.ptp(uv, axis=0).max()) / 24
+    surface = render(V, F, uv=corners, checker_size=checker, size=(640, 640), title=title)
+    save_png(np.concatenate([layout, surface], axis=1), path)
+
+
 # ---- helpers ----------------------------------------------------------------------------------
 
 def _check_size(size) -> tuple[int, int]:

@@ -27,7 +27,8 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
     const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
     if (a == b || b == c || c == a) {
       fail(function, "face " + std::to_string(f) + " repeats a vertex (" + std::to_string(a) + ", " +
-                         std::to_string(b) + ", " + std::to_string(c) + "): remove degenerate faces first");
+                         std::to_string(b) + ", " + std::to_string(c) + "): remove degenerate faces first "
+                         "(meshsmith.repair.clean)");
     }
     const Eigen::Vector3d p = V.row(a), q = V.row(b), r = V.row(c);
     if ((q - p).cross(r - p).squaredNorm() == 0.0) {
@@ -39,7 +40,8 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     if (!used[v]) {
       fail(function, "vertex " + std::to_string(v) + " is used by no face (isolated vertex): "
-                     "remove unreferenced vertices first");
+                     "remove unreferenced vertices first "
+                     "(meshsmith.repair.remove_unreferenced)");
     }
   }
 }
@@ -56,16 +58,19 @@ CheckedMesh check_mesh(const VertexRef& V, const FaceRef& F, Requirement require
     if (incidence.side_count(e) > 2) {
       fail(function, "edge (" + std::to_string(incidence.edges(e, 0)) + ", " + std::to_string(incidence.edges(e, 1)) +
                          ") has " + std::to_string(incidence.side_count(e)) +
-                         " incident faces (non-manifold): split it with topology.split_non_manifold_vertices first");
+                         " incident faces (non-manifold): clean the mesh first with meshsmith.repair.clean "
+                         "(`meshsmith clean` on the command line)");
     }
   }
   const auto pinched = topology::non_manifold_vertices(F, incidence);
   if (!pinched.empty()) {
     fail(function, "vertex " + std::to_string(pinched.front()) + " is non-manifold (" + std::to_string(pinched.size()) +
-                       " such vertices): split them with topology.split_non_manifold_vertices first");
+                       " such vertices): clean the mesh first with meshsmith.repair.clean (`meshsmith clean` "
+                       "on the command line)");
   }
   if (!topology::is_oriented(F, incidence)) {
-    fail(function, "the faces are not consistently oriented (or the surface is not orientable)");
+    fail(function, "the faces are not consistently oriented (or the surface is not orientable): clean the mesh "
+                   "first with meshsmith.repair.clean (`meshsmith clean` on the command line)");
   }
   const auto components = topology::connected_components(F, V.rows());
   if (components.count > 1) {

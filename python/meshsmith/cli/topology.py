@@ -1,0 +1,28 @@
+"""`meshsmith info`: counts, topology, bounding box, area and volume."""
+from __future__ import annotations
+
+import json
+
+from .. import topology
+from .common import read_mesh
+
+
+def command_info(args) -> int:
+    V, F = read_mesh(args.file)
+    summary = topology.info(V, F)
+    if args.json:
+        print(json.dumps(summary.as_dict(), indent=2))
+    else:
+        print(f"{args.file}")
+        print(summary)
+    return 0
+
+
+def register(commands) -> None:
+    """Add this chapter's commands to the `meshsmith` subparsers."""
+    info = commands.add_parser("info", help="counts, topology, bounding box, area and volume of a mesh",
+                               description="Print counts, topology (components, boundary loops, genus, "
+                                           "manifoldness, orientation), bounding box, area and volume.")
+    info.add_argument("file", help="mesh file (OBJ, OFF, PLY, STL)")
+    info.add_argument("--json", action="store_true", help="print the figures as JSON")
+    info.set_defaults(run=command_info)

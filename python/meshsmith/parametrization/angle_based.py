@@ -1,0 +1,89 @@
+"""Angle-based flattening, ABF and ABF++ (§5.1.3), and UV from angles; binding cpp/python/parametrization_abf.cpp.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass as _dataclass
+
+import numpy as np
+
+from .._core import parametrization as _core
+from ..repair.unreferenced import on_referenced_vertices
+
+__all__ = ["AbfResult", "abf", "uv_from_angles"]
+
+
+@_dataclass(frozen=True)
+class AbfResult:
+    """Result of :func:`abf` (m = number of faces, n = number of vertices).
+
+    uv (n, 2) float: the flattened vertex positions (NaN rows for vertices no face uses); every
+      triangle is counter-clockwise (positive signed area) when the map is bijective.
+    angles (m, 3) float: the optimized angles (radians), column k at corner k (vertex F[f, k]).
+    optimal_angles (m, 3) float: the target angles beta (the 3D angles, rescaled to sum 2 pi
+      around interior vertices, clamped to [minimum_angle, pi - minimum_angle]).
+    iterations: Newton iterations taken (0 when beta already satisfies every condition).
+    residual: final constraint residual, the infinity-norm over |sum of a triangle's angles - pi|,
+      |sum of the angles around an interior vertex - 2 pi| and |sum log sin(next angles) -
+      sum log sin(previous angles)| around an interior vertex (the wheel condition).
+    residual_history (iterations + 1,) float: the residual before the first step, then after each.
+    """
+
+    uv: np.ndarray
+    angles: np.ndarray
+    optimal_angles: np.ndarray
+    iterations: int
+    residual: float
+    residual_history: np.ndarray
+
+
+def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: float = 1e-8,
+        minimum_angle: float = 1e-4, progress=None) -> AbfResult:
+    """Angle-based flattening of a disk-topology mesh (§5.1.3; Sheffer & de Sturler 2001, ABF;
+    Sheffer, Lévy, Mogilnitskaya & Bogart 2005, ABF++).
+
+    Minimizes sum (alpha - beta)^2 / beta^2 over the angles alpha of the flat mesh, subject to
+    triangle sums pi, interior-vertex sums 2 pi and the wheel (sine-product) condition at every
+    interior vertex, by Newton's method on the Lagrangian from alpha = beta; then lays the
+    angles out in the plane by the least-squares sine-law system (:func:`uv_from_angles`),
+    pinning the two boundary vertices farthest apart (the first at the origin), scaled so that
+    the UV area equals the surface area (a developable surface comes out isometric).
+
+    V: (n, 3) float array. F: (m, 3) int array: one connected, manifold, oriented component with
+    one boundary loop, no zero-area face (needles are fine: their beta are clamped to
+    minimum_angle); vertices no face uses get NaN rows in uv.
+    method: "abf++" solves each Newton step through the reduced system of ABF++ (CHOLMOD on a
+    2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU (the same
+    iterates, much slower: for comparison). max_iterations bounds the Newton iterations;
+    tolerance is on the constraint residual (infinity-norm, see :class:`AbfResult`).
+    minimum_angle (radians, in (0, pi/6)) clamps beta. progress: optional callable
+    ``(fraction, stage) -> bool`` called once per Newton iteration (stage
+    "ABF++ Newton iteration k, residual r"), throttled to one call per 50 ms; returning False
+    raises :class:`meshsmith.Cancelled`.
+
+    Returns an :class:`AbfResult`. Raises InputError for a closed mesh (cut it first with
+    ``parametrization.cut_to_disk``), several boundary loops or components, a non-manifold or
+    non-oriented mesh (clean it with ``meshsmith.repair.clean``), a face repeating a vertex or of zero area, or bad
+    options; SolverError
+    if the residual is still above tolerance after max_iterations (the message gives it).
+    """
+    mesh = on_referenced_vertices(V, F)
+    result = _core.abf(mesh.V, mesh.F, method, int(max_iterations), float(tolerance), float(minimum_angle), progress)
+    return AbfResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
+
+
+def uv_from_angles(F, angles, *, n_vertices: int | None = None, pinned=None, pinned_uv=None) -> np.ndarray:
+    """Planar layout of triangles with prescribed angles (the last step of ABF++, §5.1.3).
+
+    For every face the sine law and the angle at one corner give a linear equation between
+    its three UV positions; the 2m equations are solved in the least-squares sense with two
+    pinned vertices. Angles satisfying ABF's conditions are reproduced exactly.
+
+    F: (m, 3) int array. angles: (m, 3) float array in (0, pi), column k at corner k.
+    n_vertices: number of vertices (default: max index + 1; every vertex must be used).
+    pinned: two vertex indices (default: F[0, 0] and F[0, 1]); pinned_uv: (2, 2) their
+    positions (default (0, 0) and (1, 0)).
+    Returns (n_vertices, 2) float UV. Raises InputError for bad shapes, an angle outside
+    (0, pi), bad pins or an unused vertex; SolverError if the faces are not edge-connected.
+    """
+    pinned = None if pinned is None else np.reshape(np.asarray(pinned), (1, -1))
+    return _core.uv_from_angles(F, angles, -1 if n_vertices is None else int(n_vertices), pinned, pinned_uv)

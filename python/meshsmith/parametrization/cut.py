@@ -1,0 +1,63 @@
+"""Cutting a closed or higher-genus mesh into a topological disk (§5.2.2 step 2); C++ src/parametrization/cut_to_disk.cpp.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._core import parametrization as _core
+from ..repair.unreferenced import ReferencedMesh, on_referenced_vertices
+
+__all__ = ["CutMesh", "cut_to_disk", "cut_on_input_vertices"]
+
+
+@dataclass(frozen=True)
+class CutMesh:
+    """A mesh cut open into a topological disk (:func:`cut_to_disk`).
+
+    V: (k, 3) float64 positions, V[i] == input V[vertex_origin[i]]; F: (m, 3) int64, face f is
+    the input face f on the copies of its corners; vertex_origin: (k,) int64, the input vertex of
+    each output vertex (the first n entries are 0..n-1; seam copies are appended);
+    seam_edges: (c, 2) int64 input edges (i < j) cut open (empty for a disk).
+    """
+
+    V: np.ndarray
+    F: np.ndarray
+    vertex_origin: np.ndarray
+    seam_edges: np.ndarray
+
+    def __iter__(self):
+        """Unpacks as ``V_cut, F_cut, seam = cut_to_disk(V, F)`` (seam: this object)."""
+        return iter((self.V, self.F, self))
+
+
+def cut_to_disk(V, F) -> CutMesh:
+    """Cut a closed or higher-genus surface into one topological disk (§5.2.2 step 2).
+
+    A breadth-first spanning tree of the triangles (across edges) is grown from face 0; the edges
+    it never crosses, pruned of dangling branches, are the 2g handle loops plus the paths joining
+    the boundary loops: the seam. A closed genus-0 mesh is cut along the shortest edge path
+    between two far-apart vertices. A disk comes back unchanged.
+
+    V: (n, 3) float array, F: (m, 3) integer array.
+    Returns a :class:`CutMesh`; it unpacks as ``V_cut, F_cut, seam`` (``seam.seam_edges``,
+    ``seam.vertex_origin``).
+    Vertices no face uses stay in V, unreferenced (the cut runs on the others).
+    Raises InputError for a mesh that is non-manifold or not oriented (clean it first with
+    :func:`meshsmith.repair.clean`), has several components or zero-area / repeated-index faces.
+    """
+    mesh = on_referenced_vertices(V, F)
+    return cut_on_input_vertices(CutMesh(**_core.cut_to_disk(mesh.V, mesh.F)), mesh, V)
+
+
+def cut_on_input_vertices(cut: CutMesh, mesh: ReferencedMesh, V) -> CutMesh:
+    """A cut of the referenced part `mesh` of the input (V, F), renumbered onto the input: its
+    first n vertices are V's (the unreferenced ones stay unused), the seam copies appended."""
+    if not mesh.removed:
+        return cut
+    n, kept = mesh.input_vertex_count, len(mesh.vertex_map)
+    renumber = np.concatenate([mesh.vertex_map, n + np.arange(len(cut.V) - kept, dtype=np.int64)])
+    return CutMesh(V=np.concatenate([np.asarray(V, dtype=np.float64), cut.V[kept:]]), F=renumber[cut.F],
+                   vertex_origin=np.concatenate([np.arange(n, dtype=np.int64), renumber[cut.vertex_origin[kept:]]]),
+                   seam_edges=mesh.vertex_map[cut.seam_edges])

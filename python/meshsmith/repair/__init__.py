@@ -1,0 +1,14 @@
+"""Repair chapter (curriculum §2.4): cleaning a mesh into a manifold, consistently oriented one
+and saying what changed; removing unreferenced vertices.
+
+Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3); results come back as float64 and
+int64 arrays, with maps back to the input's indices. Bad input raises :class:`meshsmith.InputError`.
+
+Modules, one per algorithm family: ``unreferenced``, ``orient``, ``clean``.
+"""
+from .clean import CleanMesh, CleanReport, clean, merge_close_vertices
+from .orient import OrientedFaces, orient_faces
+from .unreferenced import ReferencedMesh, remove_unreferenced
+
+__all__ = ["clean", "CleanMesh", "CleanReport", "merge_close_vertices", "orient_faces", "OrientedFaces",
+           "remove_unreferenced", "ReferencedMesh"]

@@ -1,0 +1,164 @@
+"""2D Delaunay and constrained Delaunay triangulations, Voronoi diagrams, Lawson flips and Ruppert/Chew refinement (§2.1.1); binding cpp/python/tessellation_delaunay.cpp.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._core import InputError
+from .._core import tessellation as _core
+
+__all__ = ["default_bounds", "delaunay", "constrained_delaunay", "VoronoiDiagram", "voronoi", "flip_to_delaunay", "refine", "triangle_angles"]
+
+
+def default_bounds(P: np.ndarray) -> np.ndarray:
+    """The box cells are clipped to when no bounds are given: the bounding box of the (n, 2) or
+    (n, 3) points P enlarged by 10% of its size on each side (an axis of zero extent gets 10% of
+    the largest extent, or 0.1). Returned as (xmin, ymin, xmax, ymax[, zmin, zmax]).
+    """
+    lower, upper = P.min(axis=0), P.max(axis=0)
+    margin = 0.1 * (upper - lower)
+    margin[margin == 0] = max(float(np.max(upper - lower)), 1.0) * 0.1
+    lower, upper = lower - margin, upper + margin
+    if P.shape[1] == 2:
+        return np.array([lower[0], lower[1], upper[0], upper[1]])
+    return np.array([lower[0], lower[1], upper[0], upper[1], lower[2], upper[2]])
+
+
+def _seeds(holes):
+    return np.empty((0, 2)) if holes is None else holes
+
+
+def _segments(segments):
+    return np.empty((0, 2), dtype=np.int64) if segments is None else segments
+
+
+def delaunay(P):
+    """Delaunay triangulation of planar points (CGAL Delaunay_triangulation_2).
+
+    P: (n, 2) real array. Returns (F, merged): F (m, 3) int64 CCW triangles indexing P; merged
+    (n,) int64, the kept representative of each point (merged[i] == i for kept points; exactly
+    equal points are merged into the first occurrence, which alone appears in F).
+    With cocircular points (a grid) any of the valid triangulations of the cocircular polygons
+    may be returned. Raises InputError for NaN/Inf, fewer than 3 distinct points, or all points
+    collinear.
+    """
+    return _core.delaunay(P)
+
+
+def constrained_delaunay(P, segments, holes=None):
+    """Constrained Delaunay triangulation of a planar straight-line graph, restricted to its domain.
+
+    P: (n, 2) points. segments: (s, 2) integer index pairs into P, each becoming an edge (or a
+    chain of edges when points lie on it or segments cross); None or empty: the convex hull
+    edges are the segments. holes: (h, 2) seed points, or None.
+    The domain (Triangle's convention) is every triangle that cannot be reached from outside the
+    convex hull, nor from the triangle holding a hole seed, without crossing a segment.
+    Returns (V, F): V (n + k, 2) is P unchanged followed by the k intersection points of
+    crossing segments (float64); F (m, 3) int64 CCW triangles of the domain. Duplicate points
+    of P stay in V unreferenced.
+    Raises InputError for NaN/Inf, an index out of range, a zero-length segment, fewer than 3
+    distinct points or all points collinear.
+    """
+    V, F, _ = _core.constrained_delaunay(P, _segments(segments), _seeds(holes))
+    return V, F
+
+
+class VoronoiDiagram(NamedTuple):
+    """Voronoi diagram of n sites (see voronoi())."""
+
+    vertices: np.ndarray    #: (m, 2) circumcentre of Delaunay triangle t is vertex t
+    edges: np.ndarray       #: (e, 2) int64 vertex indices; -1 as second index: a ray
+    directions: np.ndarray  #: (e, 2) unit direction of each ray, zero rows for segments
+    edge_sites: np.ndarray  #: (e, 2) int64 the two sites each edge is equidistant from
+    cells: list             #: n arrays (k, 2): the cell of each site clipped to bounds, CCW
+    triangles: np.ndarray   #: (m, 3) int64 the dual Delaunay triangulation
+
+
+def voronoi(P, bounds=None) -> VoronoiDiagram:
+    """Voronoi diagram of planar sites, the dual of their Delaunay triangulation.
+
+    P: (n, 2) points. bounds: (xmin, ymin, xmax, ymax) box the cells are clipped to; default the
+    bounding box of P enlarged by 10% of its size on each side (20% wider and taller).
+    Cells are the box clipped by the bisectors of each site's Delaunay neighbours (half-plane
+    clipping in float64); a site outside the box gets an empty (0, 2) cell, and duplicate sites
+    share the cell of their first occurrence. Cocircular sites give coincident Voronoi vertices
+    joined by zero-length edges.
+    Raises InputError as delaunay(), or for an empty or non-finite box.
+    """
+    if bounds is None:
+        points = np.asarray(P, dtype=float)
+        if points.ndim == 2 and points.shape[1] == 2 and len(points) and np.isfinite(points).all():
+            bounds = default_bounds(points)
+        else:
+            bounds = (0.0, 0.0, 1.0, 1.0)  # the core rejects P with a precise message
+    bounds = tuple(float(b) for b in bounds)
+    if len(bounds) != 4:
+        raise InputError("bounds: expected (xmin, ymin, xmax, ymax)")
+    return VoronoiDiagram(*_core.voronoi(P, bounds))
+
+
+def flip_to_delaunay(V, F):
+    """Lawson edge flips until every interior edge is locally Delaunay (α + γ ≤ 180°).
+
+    V: (n, 2) points; F: (m, 3) triangles of a planar triangulation (clockwise ones are
+    reoriented). Uses the exact incircle test, so cocircular quadruples are not flipped back and
+    forth. Returns (F_flipped, flip_count): (m, 3) int64 CCW triangles, same count, same vertices.
+    Raises InputError for NaN/Inf, an index out of range, a zero-area triangle, an edge shared
+    by more than two triangles or overlapping triangles; SolverError if more than n(n-1)/2 flips
+    would be needed (only possible on input that is not a planar triangulation).
+    """
+    return _core.flip_to_delaunay(V, F)
+
+
+def refine(P, segments, holes=None, min_angle: float = 20.7, max_area: float | None = None, *,
+           max_steiner_points: int = 1_000_000, progress=None):
+    """Ruppert/Chew Delaunay refinement of a planar straight-line graph (quality triangulation).
+
+    P: (n, 2) points; segments: (s, 2) index pairs or None; holes: (h, 2) seed points or None
+    (domain as in constrained_delaunay). min_angle: degrees, in (0, 35); max_area: > 0 to bound triangle
+    areas, or None. Uses CGAL's Delaunay_mesher_2: circumcentres of bad triangles are inserted,
+    segments encroached upon (diametral circles) are split at midpoints first, with Shewchuk's
+    cluster treatment of small input angles. Termination is guaranteed for min_angle ≤ 20.7°
+    and usual up to about 33°. Triangles at (or next to) a corner where input segments meet
+    at less than 60° may keep angles below min_angle: the bound holds away from small input
+    angles.
+    Returns (V, F, steiner_count): V (n + k, 2) is P followed by the k added points (segment
+    intersections included), F (m, 3) int64 CCW triangles of the domain.
+    Choice of CGAL's mesher over own code: it meets the guarantees above and, on the test
+    domains, adds about as many Steiner points as Shewchuk's Triangle (see
+    benchmarks/bench_tessellation.py); it is several times slower than Triangle on large meshes.
+    Raises InputError as constrained_delaunay or for a bad min_angle / max_area; SolverError
+    when more than max_steiner_points points would be inserted (so it never hangs).
+    """
+    area = 0.0 if max_area is None else float(max_area)
+    if max_area is not None and not area > 0:
+        raise InputError(f"max_area: must be > 0 or None, got {max_area}")
+    return _core.refine(P, _segments(segments), _seeds(holes), float(min_angle), area,
+                        int(max_steiner_points), progress)
+
+
+def triangle_angles(V, F) -> np.ndarray:
+    """Interior angles in degrees of planar triangles: V (n, 2) points, F (m, 3) indices.
+
+    Returns (m, 3): column c is the angle at corner c (atan2 of |cross| and dot, accurate for
+    tiny and obtuse angles alike). The quality measure of Delaunay refinement (§2.1.1).
+    Raises InputError for shapes other than (n, 2) and (m, 3) or out-of-range indices.
+    """
+    V = np.asarray(V, dtype=float)
+    F = np.asarray(F)
+    if V.ndim != 2 or V.shape[1] != 2:
+        raise InputError(f"V has shape {V.shape}: expected (n, 2)")
+    if F.ndim != 2 or F.shape[1] != 3 or F.dtype.kind not in "iu":
+        raise InputError(f"F has shape {F.shape} and dtype {F.dtype}: expected (m, 3) integers")
+    if F.size and (F.min() < 0 or F.max() >= len(V)):
+        raise InputError(f"F indexes a vertex outside [0, {len(V)})")
+    corners = V[F]
+    angles = np.empty(F.shape, dtype=float)
+    for c in range(3):
+        a = corners[:, (c + 1) % 3] - corners[:, c]
+        b = corners[:, (c + 2) % 3] - corners[:, c]
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        angles[:, c] = np.degrees(np.arctan2(np.abs(cross), np.einsum("ij,ij->i", a, b)))
+    return angles
