@@ -4,6 +4,7 @@
 
 #include <meshsmith/core/errors.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -25,6 +26,21 @@ CoordinateFrame normalizing_frame(const PointRef& X) {
   CoordinateFrame frame;
   const double largest = X.size() > 0 ? X.cwiseAbs().maxCoeff() : 0.0;
   if (largest > 0.0) std::frexp(largest, &frame.exponent);  // largest in [2^(e-1), 2^e)
+  return frame;
+}
+
+CoordinateFrame triangle_edge_vectors(const double* a, const double* b, const double* c, Eigen::Vector3d& ab,
+                                      Eigen::Vector3d& ac) {
+  for (int j = 0; j < 3; ++j) {
+    ab(j) = 0.5 * b[j] - 0.5 * a[j];
+    ac(j) = 0.5 * c[j] - 0.5 * a[j];
+  }
+  CoordinateFrame frame;
+  const double largest = std::max(ab.cwiseAbs().maxCoeff(), ac.cwiseAbs().maxCoeff());
+  if (largest > 0.0) std::frexp(largest, &frame.exponent);
+  ab = ab.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
+  ac = ac.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
+  ++frame.exponent;  // the halves
   return frame;
 }
 

@@ -48,6 +48,14 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
 
 }  // namespace
 
+NormalizedVertices normalized(const VertexRef& V) {
+  validate_vertices(V, "V");
+  NormalizedVertices result;
+  result.frame = normalizing_frame(V);
+  result.V = result.frame.normalize_vertices(V);
+  return result;
+}
+
 CheckedMesh check_mesh(const VertexRef& V, const FaceRef& F, Requirement requirement, const char* function) {
   validate_mesh(V, F);
   check_faces(V, F, function);

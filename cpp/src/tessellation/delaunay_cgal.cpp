@@ -60,7 +60,7 @@ struct SmallAngleApex {
 ///
 /// Small input angles (Shewchuk 2002, "Delaunay refinement algorithms for triangular mesh
 /// generation", §5; Triangle's rule): a skinny triangle whose shortest edge joins two points on
-/// the two segments of one small-angle apex is left alone whatever its angle. Its small angle is
+/// the two segments of one small-angle apex, equally far from it, is left alone whatever its angle. Its small angle is
 /// forced by the input (the segments are that close there); splitting it only makes a smaller
 /// copy nearer the apex, and with a bound above ~20° that can go on until the Steiner cap.
 class AngleAreaCriteria {
@@ -99,7 +99,8 @@ class AngleAreaCriteria {
       const Point& p = shortest == ab ? a : shortest == bc ? b : c;
       const Point& r = shortest == ab ? b : shortest == bc ? c : a;
       for (const SmallAngleApex& apex : *apexes_)
-        if ((on_ray(p, apex, 0) && on_ray(r, apex, 1)) || (on_ray(p, apex, 1) && on_ray(r, apex, 0))) {
+        if (((on_ray(p, apex, 0) && on_ray(r, apex, 1)) || (on_ray(p, apex, 1) && on_ray(r, apex, 0))) &&
+            on_one_shell(p, r, apex)) {
           q.first = squared_sine_bound_;  // ranks as acceptable
           return CGAL::Mesh_2::NOT_BAD;
         }
@@ -115,6 +116,14 @@ class AngleAreaCriteria {
       const double along = dx * apex.u[side][0] + dy * apex.u[side][1];
       const double across = dx * apex.u[side][1] - dy * apex.u[side][0];
       return along > 0 && std::abs(across) <= 1e-12 * along;
+    }
+
+    /// Whether p and r are equally far from the apex (within 0.1%, Triangle's tolerance): the
+    /// points concentric-shell splitting puts on the two segments. Elsewhere along the segments
+    /// the triangles are split as usual.
+    static bool on_one_shell(const Point& p, const Point& r, const SmallAngleApex& apex) {
+      const double dp = std::hypot(p.x() - apex.x, p.y() - apex.y), dr = std::hypot(r.x() - apex.x, r.y() - apex.y);
+      return dp < 1.001 * dr && dr < 1.001 * dp;
     }
 
     double squared_sine_bound_;

@@ -53,6 +53,15 @@ struct CoordinateFrame {
   double to_normalized(double value, int power) const;
 };
 
+/// Per-element normalization for local quantities of a triangle (area, normal, angles): its
+/// edge vectors b − a and c − a scaled into (−1, 1) by one power of two, exactly (computed as
+/// halves, so corners near ±1.8e308 do not overflow the subtraction). A quantity of unit
+/// length^p computed from them maps back with the returned frame; this keeps the small faces of
+/// a mesh that also holds a vertex at 1e300, which one frame for the whole mesh would flush to 0.
+/// All corners equal: both vectors 0 and exponent 0.
+CoordinateFrame triangle_edge_vectors(const double* a, const double* b, const double* c, Eigen::Vector3d& ab,
+                                      Eigen::Vector3d& ac);
+
 /// The frame that maps X into (-1, 1)^d: the smallest exponent with every |x| < 2^exponent
 /// (0 when every coordinate is 0).
 /// \pre X is finite (validate_vertices); an empty X gives exponent 0.
