@@ -316,3 +316,41 @@ def test_refine_stops_when_no_step_makes_progress():
     """
     returned, output = run_child(code, timeout=120)
     assert returned == 0 and output.startswith("ok"), output
+
+
+# --- curves ---------------------------------------------------------------------------------------
+
+def helix():
+    theta = np.linspace(0, 4 * np.pi, 60, endpoint=False)
+    return np.c_[np.cos(theta), 0.5 * np.sin(theta), 0.2 * theta]
+
+
+@pytest.mark.parametrize("k", POWERS)
+@pytest.mark.parametrize("name, call, power", [
+    ("arc_length", lambda P: meshsmith.curves.arc_length(P, closed=True), 1),
+    ("resampling", lambda P: meshsmith.curves.arc_length_parametrization(P, 40), 1),
+    ("tangents", lambda P: meshsmith.curves.tangents(P), 0),
+    ("normals", lambda P: meshsmith.curves.normals(P), 0),
+    ("turning angle", lambda P: meshsmith.curves.curvature(P), -1),
+    ("osculating circle", lambda P: meshsmith.curves.curvature(P, method="osculating_circle"), -1),
+    ("second difference", lambda P: meshsmith.curves.curvature(P, method="second_difference"), -1),
+    ("signed 2D", lambda P: meshsmith.curves.curvature(P[:, :2], closed=True, signed=True), -1),
+])
+def test_curves_are_exactly_scale_covariant(k, name, call, power):
+    P = helix()
+    assert_scaled_exactly(call(scaled(P, k)), call(P), k, power)
+
+
+def test_curves_keep_small_edges_next_to_a_far_point():
+    P = helix()
+    far = P.copy()
+    far[-1] = [1e300, 0.0, 0.0]
+    kappa, reference = meshsmith.curves.curvature(far), meshsmith.curves.curvature(P)
+    np.testing.assert_allclose(kappa[1:-3], reference[1:-3], rtol=1e-12)
+    assert np.all(np.isfinite(meshsmith.curves.tangents(far))) and np.all(np.isfinite(meshsmith.curves.normals(far)))
+    np.testing.assert_allclose(meshsmith.curves.arc_length(far)[:-1], meshsmith.curves.arc_length(P)[:-1], rtol=1e-12)
+
+
+def test_curvature_of_a_denormal_curve_says_it_overflows():
+    with pytest.raises(meshsmith.InputError, match="curvature .* exceeds the double range"):
+        meshsmith.curves.curvature(helix() * 1e-310)
