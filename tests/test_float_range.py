@@ -354,3 +354,37 @@ def test_curves_keep_small_edges_next_to_a_far_point():
 def test_curvature_of_a_denormal_curve_says_it_overflows():
     with pytest.raises(meshsmith.InputError, match="curvature .* exceeds the double range"):
         meshsmith.curves.curvature(helix() * 1e-310)
+
+
+# --- geometry: differential quantities ------------------------------------------------------------
+
+@pytest.mark.parametrize("k", POWERS)
+@pytest.mark.parametrize("name, call, power", [
+    ("face normals", lambda V, F: meshsmith.geometry.face_normals(V, F), 0),
+    ("angle normals", lambda V, F: meshsmith.geometry.vertex_normals(V, F), 0),
+    ("area normals", lambda V, F: meshsmith.geometry.vertex_normals(V, F, "area"), 0),
+    ("cotan Laplacian", lambda V, F: meshsmith.geometry.cotan_laplacian(V, F).toarray(), 0),
+    ("mean value Laplacian", lambda V, F: meshsmith.geometry.mean_value_laplacian(V, F).toarray(), -1),
+    ("gaussian curvature", lambda V, F: meshsmith.geometry.gaussian_curvature(V, F), 0),
+    ("mean curvature", lambda V, F: meshsmith.geometry.mean_curvature(V, F)[0], -1),
+    ("quadric fit k1", lambda V, F: meshsmith.geometry.principal_curvatures(V, F)[0], -1),
+    ("shape operator k2", lambda V, F: meshsmith.geometry.principal_curvatures(V, F, method="shape_operator")[1], -1),
+])
+def test_differential_quantities_are_exactly_scale_covariant(k, name, call, power):
+    V, F = bumpy_sphere()
+    assert_scaled_exactly(call(scaled(V, k), F), call(V, F), k, power)
+
+
+@pytest.mark.parametrize("k", POWERS)
+def test_vertex_areas_scale_exactly_or_say_what_overflows(k):
+    V, F = bumpy_sphere()
+    areas = meshsmith.geometry.vertex_areas(V, F)
+    if 2 * k < 1020:
+        assert_scaled_exactly(meshsmith.geometry.vertex_areas(scaled(V, k), F), areas, k, 2)
+        values, vectors = meshsmith.geometry.laplacian_eigenpairs(scaled(V, k), F, 4) if abs(k) < 500 else (None, None)
+        if values is not None:
+            reference_values, reference_vectors = meshsmith.geometry.laplacian_eigenpairs(V, F, 4)
+            np.testing.assert_allclose(np.ldexp(values[1:], 2 * k), reference_values[1:], rtol=1e-8)
+    else:
+        with pytest.raises(meshsmith.InputError, match="area of vertex 0 exceeds the double range"):
+            meshsmith.geometry.vertex_areas(scaled(V, k), F)
