@@ -388,3 +388,41 @@ def test_vertex_areas_scale_exactly_or_say_what_overflows(k):
     else:
         with pytest.raises(meshsmith.InputError, match="area of vertex 0 exceeds the double range"):
             meshsmith.geometry.vertex_areas(scaled(V, k), F)
+
+
+def test_a_crossing_that_rounds_onto_a_vertex_is_an_input_error():
+    """Segments 1-3 and 2-0 cross 2.5e-16 from vertex 2: the rounded intersection is unusable and
+    CGAL would bend segment 1-3 through vertex 2 (refine then crashed with SIGSEGV)."""
+    P = np.array([[0, 0], [1, 0], [1, 1e-15], [0.5, 2]])
+    S = np.array([[0, 1], [1, 3], [3, 2], [2, 0]])
+    code = f"""
+        import numpy as np, meshsmith
+        P, S = np.array({P.tolist()}), np.array({S.tolist()})
+        for call in (lambda: meshsmith.tessellation.refine(P, S, min_angle=20),
+                     lambda: meshsmith.tessellation.constrained_delaunay(P, S)):
+            try:
+                call()
+                print("no error")
+            except meshsmith.InputError as error:
+                assert "cross so close to vertex" in str(error), error
+        print("ok")
+    """
+    returned, output = run_child(code, timeout=120)
+    assert returned == 0 and output.strip() == "ok", output
+
+
+def test_crossing_and_overlapping_segments_still_triangulate():
+    P = np.array([[0, 0], [2, 0], [1, -1], [1, 1], [3, 0], [0.5, 0], [2.5, 0]])
+    S = np.array([[0, 1], [2, 3], [5, 6], [1, 4]])  # 0-1 crosses 2-3; 5-6 overlaps 0-1 and 1-4
+    V, F = meshsmith.tessellation.constrained_delaunay(P, S)
+    assert len(V) == len(P) + 1 and np.allclose(V[-1], [1, 0])  # the crossing
+    V, F = meshsmith.tessellation.refine(P, S, min_angle=20)[:2]
+    assert np.all(np.isfinite(V))
+
+
+@pytest.mark.parametrize("k", POWERS + [1020])
+def test_triangle_angles_are_scale_invariant(k):
+    P = np.random.default_rng(1).random((50, 2))
+    F = meshsmith.tessellation.delaunay(P)[0]
+    np.testing.assert_array_equal(meshsmith.tessellation.triangle_angles(scaled(P, k), F),
+                                  meshsmith.tessellation.triangle_angles(P, F))

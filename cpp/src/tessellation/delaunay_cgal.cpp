@@ -141,6 +141,45 @@ class AngleAreaCriteria {
 
 using Mesher = CGAL::Delaunay_mesher_2<Cdt, AngleAreaCriteria>;
 
+/// Where two segments cross, CGAL (Exact_predicates_tag) inserts their intersection rounded to
+/// double precision, or, when that rounded point is unusable (closer to an endpoint than the
+/// rounding can tell), routes the constraint through the nearest endpoint: the segment then
+/// bends through a vertex that is not on it, and the mesher walks off the triangulation on such
+/// input (a segfault). Every constrained edge between two input vertices must therefore lie on
+/// an input segment (exactly, by the orientation predicate); edges at constructed vertices are
+/// the usual rounded crossings. O(#E) plus O(#segments) per edge not on a segment at its ends.
+/// \throw InputError naming the vertex a segment was bent through.
+void check_constraints_follow_segments(const Cdt& cdt, const PointRef2& P, const SegmentRef& segments,
+                                       const std::vector<int>& representative) {
+  const Eigen::Index n_segments = segments.rows();
+  std::vector<std::vector<int>> at_vertex(static_cast<std::size_t>(P.rows()));
+  for (Eigen::Index s = 0; s < n_segments; ++s)
+    for (int k = 0; k < 2; ++k) at_vertex[representative[segments(s, k)]].push_back(static_cast<int>(s));
+  const auto point = [&](int i) { return Point(P(i, 0), P(i, 1)); };
+  const auto on_segment = [&](int w, Eigen::Index s) {
+    const int a = representative[segments(s, 0)], b = representative[segments(s, 1)];
+    if (w == a || w == b) return true;
+    return CGAL::orientation(point(a), point(b), point(w)) == CGAL::COLLINEAR &&
+           CGAL::collinear_are_ordered_along_line(point(a), point(w), point(b));
+  };
+  for (auto edge = cdt.finite_edges_begin(); edge != cdt.finite_edges_end(); ++edge) {
+    if (!cdt.is_constrained(*edge)) continue;
+    const int u = edge->first->vertex(Cdt::cw(edge->second))->info().value;
+    const int v = edge->first->vertex(Cdt::ccw(edge->second))->info().value;
+    if (u < 0 || v < 0) continue;  // a constructed crossing point
+    bool follows = false;
+    for (const int w : {u, v})
+      for (const int s : at_vertex[w]) follows = follows || (on_segment(u, s) && on_segment(v, s));
+    for (Eigen::Index s = 0; s < n_segments && !follows; ++s) follows = on_segment(u, s) && on_segment(v, s);
+    if (!follows) {
+      throw InputError("segments: two segments cross so close to vertex " + std::to_string(u) + " or " +
+                       std::to_string(v) + " that double precision cannot place their intersection (the "
+                       "constraint would bend through a vertex that is not on it); move the points apart "
+                       "or split the segments there");
+    }
+  }
+}
+
 /// Checks the PSLG arguments, merges duplicate points and builds the CDT with its constraints.
 /// handle_of[i] is the vertex of input point i (duplicates share their representative's).
 /// The CDT holds the points multiplied by `scale` (detail::normalizing_scale).
@@ -176,6 +215,7 @@ void build_constrained(const PointRef2& P, const SegmentRef& segments, const Poi
   for (int i = 0; i < n; ++i) handle_of[i] = handle_of[representative[i]];
   for (Eigen::Index s = 0; s < segments.rows(); ++s)
     cdt.insert_constraint(handle_of[segments(s, 0)], handle_of[segments(s, 1)]);
+  check_constraints_follow_segments(cdt, P, segments, representative);
   if (segments.rows() == 0) {
     // A plain point set: its domain is the convex hull, so the hull edges become the segments.
     std::vector<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>> hull;

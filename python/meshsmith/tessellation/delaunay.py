@@ -154,7 +154,12 @@ def triangle_angles(V, F) -> np.ndarray:
         raise InputError(f"F has shape {F.shape} and dtype {F.dtype}: expected (m, 3) integers")
     if F.size and (F.min() < 0 or F.max() >= len(V)):
         raise InputError(f"F indexes a vertex outside [0, {len(V)})")
+    # Angles are scale-invariant: each triangle's corners are scaled into (-1, 1) by a power of
+    # two (exact; the rule of core/normalization.h, per triangle), so neither the differences
+    # nor the cross and dot products overflow or underflow at 1e±300.
     corners = V[F]
+    largest = np.abs(corners).max(axis=(1, 2)) if len(F) else np.zeros(0)
+    corners = np.ldexp(corners, -np.frexp(largest)[1][:, None, None])
     angles = np.empty(F.shape, dtype=float)
     for c in range(3):
         a = corners[:, (c + 1) % 3] - corners[:, c]
