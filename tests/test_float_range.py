@@ -426,3 +426,22 @@ def test_triangle_angles_are_scale_invariant(k):
     F = meshsmith.tessellation.delaunay(P)[0]
     np.testing.assert_array_equal(meshsmith.tessellation.triangle_angles(scaled(P, k), F),
                                   meshsmith.tessellation.triangle_angles(P, F))
+
+
+@pytest.mark.parametrize("k", POWERS)
+def test_triangle_distortion_is_exactly_scale_covariant(k):
+    V, F = curved_disk()
+    UV = meshsmith.parametrization.lscm(V, F)
+    reference = meshsmith.geometry.triangle_distortion(V, F, UV)
+    if 2 * k >= 1024:
+        with pytest.raises(meshsmith.InputError, match="surface area of face 0"):
+            meshsmith.geometry.triangle_distortion(scaled(V, k), F, scaled(UV, k))
+        return
+    both = meshsmith.geometry.triangle_distortion(scaled(V, k), F, scaled(UV, k))  # an isometry stays one
+    for name in ("jacobians", "singular_values", "isometric", "conformal", "area", "stretch_l2"):
+        np.testing.assert_array_equal(getattr(both, name), getattr(reference, name))
+    assert_scaled_exactly(both.surface_areas, reference.surface_areas, k, 2)
+    assert both.normalized_global_stretch_l2 == reference.normalized_global_stretch_l2
+    surface_only = meshsmith.geometry.triangle_distortion(scaled(V, k), F, UV)  # J grows by 2^k
+    assert_scaled_exactly(surface_only.jacobians, reference.jacobians, k, 1)
+    assert surface_only.normalized_global_stretch_l2 == reference.normalized_global_stretch_l2
