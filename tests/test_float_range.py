@@ -445,3 +445,32 @@ def test_triangle_distortion_is_exactly_scale_covariant(k):
     surface_only = meshsmith.geometry.triangle_distortion(scaled(V, k), F, UV)  # J grows by 2^k
     assert_scaled_exactly(surface_only.jacobians, reference.jacobians, k, 1)
     assert surface_only.normalized_global_stretch_l2 == reference.normalized_global_stretch_l2
+
+
+# --- tessellation: contouring by Voronoi filtering --------------------------------------------------
+
+def ellipse_samples():
+    theta = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    return np.c_[np.cos(theta), 0.5 * np.sin(theta)]
+
+
+@pytest.mark.parametrize("k", POWERS + [1020])
+def test_contouring_is_exactly_scale_covariant(k):
+    S = ellipse_samples()
+    np.testing.assert_array_equal(meshsmith.tessellation.crust(scaled(S, k)), meshsmith.tessellation.crust(S))
+    vertices, edges = meshsmith.tessellation.medial_axis(S)
+    scaled_vertices, scaled_edges = meshsmith.tessellation.medial_axis(scaled(S, k))
+    np.testing.assert_array_equal(scaled_edges, edges)
+    assert_scaled_exactly(scaled_vertices, vertices, k, 1)
+    assert_scaled_exactly(meshsmith.tessellation.local_feature_size(scaled(S, k)),
+                          meshsmith.tessellation.local_feature_size(S), k, 1)
+    assert meshsmith.tessellation.sampling_ratio(scaled(S, k)) == meshsmith.tessellation.sampling_ratio(S)
+
+
+@pytest.mark.parametrize("k", POWERS)
+def test_crust_3d_is_scale_invariant(k):
+    P, _ = datasets.sphere_points(300, seed=1)
+    V, F = meshsmith.tessellation.crust_3d(P)
+    Vk, Fk = meshsmith.tessellation.crust_3d(scaled(P, k))
+    np.testing.assert_array_equal(Fk, F)
+    np.testing.assert_array_equal(Vk, scaled(P, k))
