@@ -79,15 +79,28 @@ VertexMatrix CoordinateFrame::vertices_to_input(const VertexRef& W, const char* 
   return positions_to_input(W, what);
 }
 
+namespace {
+
+/// value · 2^e: a multiplication by the exact power of two where 2^e is a normal double (the
+/// same correctly rounded result as std::ldexp, without the library call), ldexp elsewhere.
+inline double times_power_of_two(double value, int e) {
+  if (e == 0) return value;
+  return e >= -1000 && e <= 1000 ? value * std::ldexp(1.0, e) : std::ldexp(value, e);
+}
+
+}  // namespace
+
 double CoordinateFrame::to_input(double value, int power, const char* what) const {
-  const double result = std::ldexp(value, power * exponent);
+  const double result = times_power_of_two(value, power * exponent);
   if (std::isfinite(value) && !std::isfinite(result)) throw InputError(overflow_message(what, value, power, exponent));
   return result;
 }
 
 void CoordinateFrame::to_input(double* values, Eigen::Index count, int power, const char* what) const {
+  const int e = power * exponent;
+  if (e == 0) return;
   for (Eigen::Index i = 0; i < count; ++i) {
-    const double result = std::ldexp(values[i], power * exponent);
+    const double result = times_power_of_two(values[i], e);
     if (std::isfinite(values[i]) && !std::isfinite(result))
       throw InputError(overflow_message(std::string(what) + " " + std::to_string(i), values[i], power, exponent));
     values[i] = result;

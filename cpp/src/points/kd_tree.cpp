@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -62,11 +63,21 @@ class StrictKnnResultSet {
       indices_[i] = index;
     }
     if (count_ < capacity_) ++count_;
+    // The bound changes only here (nanoflann asks for it at every node it visits).
+    if (count_ == capacity_) bound_ = just_below(distances_[capacity_ - 1]);
     return true;
   }
-  double worstDist() const {
-    const double worst = distances_[capacity_ - 1];
-    return full() ? std::nextafter(worst, -std::numeric_limits<double>::infinity()) : worst;
+  double worstDist() const { return bound_; }
+
+  /// The largest double below d >= 0 (d's bits minus one; any negative number below 0): what
+  /// std::nextafter(d, -inf) gives, without the library call on every insertion.
+  static double just_below(double d) {
+    if (!(d > 0.0)) return -1.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &d, sizeof bits);
+    --bits;
+    std::memcpy(&d, &bits, sizeof bits);
+    return d;
   }
 
  private:
@@ -74,6 +85,7 @@ class StrictKnnResultSet {
   double* distances_;
   std::size_t capacity_;
   std::size_t count_ = 0;
+  double bound_ = std::numeric_limits<double>::max();
 };
 
 /// Normalized coordinates of a query point, its distance from the origin capped at about 2^27
