@@ -474,3 +474,15 @@ def test_crust_3d_is_scale_invariant(k):
     Vk, Fk = meshsmith.tessellation.crust_3d(scaled(P, k))
     np.testing.assert_array_equal(Fk, F)
     np.testing.assert_array_equal(Vk, scaled(P, k))
+
+
+@pytest.mark.parametrize("k", POWERS)
+@pytest.mark.parametrize("measure", ["hausdorff_distance", "mean_surface_distance"])
+def test_surface_distances_are_exactly_scale_covariant(k, measure):
+    V, F = bumpy_sphere()
+    W = V * 1.1 + 0.05
+    call = getattr(meshsmith.geometry, measure)
+    for sampled in (False, True):
+        reference = call(V, F, W, F, sampled=sampled)
+        result = call(scaled(V, k), F, scaled(W, k), F, sampled=sampled)
+        np.testing.assert_array_equal(np.ldexp(np.asarray(reference, dtype=float), k), np.asarray(result, dtype=float))
