@@ -4,6 +4,7 @@
 
 #include <meshsmith/core/build_info.h>
 #include <meshsmith/core/mesh.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 
 #include <pybind11/stl.h>
@@ -97,6 +98,13 @@ void bind_core(py::module_& m) {
   m.def("check_progress", [](const py::object& callback) { make_progress(callback); }, py::arg("callback"),
         "InputError unless callback is None or callable (as every binding's progress argument).");
 
+  // The exponent of core/normalization.h's frame for Python code that normalizes itself (the
+  // curves): points / 2^exponent lie in (-1, 1).
+  m.def("normalizing_exponent", [](const py::array_t<double, py::array::c_style | py::array::forcecast>& X) {
+    if (X.ndim() != 2) throw InputError("normalizing_exponent: expected an (n, d) array");
+    const Eigen::Map<const PointMatrix> points(X.data(), X.shape(0), X.shape(1));
+    return normalizing_frame(points).exponent;
+  });
   m.def("version", &version);
   m.def("dependency_versions", &dependency_versions);
 }

@@ -31,6 +31,7 @@ import numpy as np
 
 from . import _arguments
 from ._core import InputError
+from ._core import core as _core
 from ._deprecation import positional_options
 from ._typing import ArrayLike, FloatArray
 
@@ -43,6 +44,37 @@ CURVATURE_METHODS = ("turning_angle", "osculating_circle", "second_difference")
 
 def _as_curve(P: ArrayLike, name: str = "P") -> FloatArray:
     return _arguments.finite(_arguments.real_array(P, name, (2, 3)), name)
+
+
+def _normalized_curve(P: ArrayLike, name: str = "P") -> tuple[FloatArray, int]:
+    """The validated curve scaled into (-1, 1) by 2^-exponent (core/normalization.h; exact), and
+    the exponent. Every operator here is scale-invariant, so each runs on these coordinates:
+    curves of size 1e-300 or 1e300 give the answers of size 1 (edge lengths of 1e-300 squared
+    underflowed to 0 and of 1e300 overflowed, which made NaN tangents and curvatures)."""
+    P = _as_curve(P, name)
+    exponent = _core.normalizing_exponent(P) if P.size else 0
+    return np.ldexp(P, -exponent), exponent
+
+
+def _to_input(values: np.ndarray, exponent: int, power: int, what: str) -> np.ndarray:
+    """A result of unit length^power computed on normalized coordinates, in input units.
+    Raises InputError if it leaves the double range."""
+    result = np.ldexp(values, power * exponent)
+    overflowed = np.isfinite(values) & ~np.isfinite(result)
+    if overflowed.any():
+        index = int(np.flatnonzero(overflowed.ravel())[0])
+        raise InputError(f"{what} at index {index} exceeds the double range (about 1.8e308) for a curve "
+                         f"of size 2^{exponent}; scale the curve")
+    return result
+
+
+def _norms(X: np.ndarray) -> np.ndarray:
+    """Row norms by np.hypot (no overflow or underflow of the squares): a curve with one point at
+    1e300 next to points 1 apart keeps its small edges, which become 1e-300 once normalized."""
+    result = np.abs(X[:, 0])
+    for column in range(1, X.shape[1]):
+        result = np.hypot(result, X[:, column])
+    return result
 
 
 def _distinct(P: FloatArray, closed: bool, minimum: int, what: str) -> tuple[FloatArray, np.ndarray]:
@@ -75,7 +107,7 @@ def _interior_stencils(P: FloatArray, closed: bool
     """For each point that has two neighbours: (d-, d+, h-, h+). Closed: all n points;
     open: points 1 .. n-2."""
     edges = _edges(P, closed)
-    lengths = np.linalg.norm(edges, axis=1)
+    lengths = _norms(edges)
     directions = edges / lengths[:, None]
     if closed:
         return np.roll(directions, 1, axis=0), directions, np.roll(lengths, 1), lengths
@@ -99,11 +131,11 @@ def arc_length(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     s[-1] = total length) or (n + 1,) for a closed one (s[n] = total length including the
     closing segment). Repeated points add 0.
     """
-    P = _as_curve(P)
+    P, exponent = _normalized_curve(P)
     if len(P) < 2:
         raise InputError(f"P has {len(P)} points: arc length needs at least 2")
-    lengths = np.linalg.norm(_edges(P, closed), axis=1)
-    return np.concatenate([[0.0], np.cumsum(lengths)])
+    lengths = _norms(_edges(P, closed))
+    return _to_input(np.concatenate([[0.0], np.cumsum(lengths)]), exponent, 1, "the arc length")
 
 
 @positional_options("closed")
@@ -116,14 +148,15 @@ def arc_length_parametrization(P: ArrayLike, n: int | None = None, *, closed: bo
     loop (the first point is not repeated). Points are on the polyline (linear interpolation).
     Returns (n, d) float64.
     """
-    P = _as_curve(P)
+    P, exponent = _normalized_curve(P)
     P, _ = _distinct(P, closed, 3 if closed else 2, "arc-length resampling")
     n = len(P) if n is None else _arguments.integer(n, "n", 3 if closed else 2, _arguments.MAX_ELEMENTS)
     loop = np.vstack([P, P[:1]]) if closed else P
     s = arc_length(loop)
     total = s[-1]
     targets = total * np.arange(n) / (n if closed else n - 1)
-    return np.stack([np.interp(targets, s, loop[:, c]) for c in range(P.shape[1])], axis=1)
+    samples = np.stack([np.interp(targets, s, loop[:, c]) for c in range(P.shape[1])], axis=1)
+    return _to_input(samples, exponent, 1, "a resampled point")
 
 
 # --- tangents, curvature vectors, normals -----------------------------------------------------
@@ -135,10 +168,10 @@ def tangents(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     an open curve the direction of the end edge, where the curve doubles back exactly
     (p_(i+1) = p_(i-1)) the outgoing edge's direction. P: (n, d) with >= 2 distinct points (3 closed).
     """
-    P = _as_curve(P)
+    P, _ = _normalized_curve(P)
     distinct, representative = _distinct(P, closed, 3 if closed else 2, "tangents")
     edges = _edges(distinct, closed)
-    directions = edges / np.linalg.norm(edges, axis=1)[:, None]
+    directions = edges / _norms(edges)[:, None]
     if len(distinct) == 2:  # open segment
         return directions[[0, 0]][representative]
     d_in, d_out, h_in, h_out = _interior_stencils(distinct, closed)
@@ -169,14 +202,14 @@ def normals(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     tangent); on a straight line, a fixed unit vector orthogonal to the tangent.
     P: (n, d) with >= 3 distinct points.
     """
-    P = _as_curve(P)
+    P, _ = _normalized_curve(P)
     distinct, representative = _distinct(P, closed, 3, "normals")
     t = tangents(distinct, closed=closed)
     if distinct.shape[1] == 2:
         return np.stack([-t[:, 1], t[:, 0]], axis=1)[representative]
     kappa_vector = _with_open_ends(_curvature_vectors(distinct, closed), closed)
     perpendicular = kappa_vector - (kappa_vector * t).sum(axis=1)[:, None] * t
-    size = np.linalg.norm(perpendicular, axis=1)
+    size = _norms(perpendicular)
     _, _, h_in, h_out = _interior_stencils(distinct, closed)
     local_length = _with_open_ends(np.minimum(h_in, h_out), closed)
     defined = size * local_length > 1e-9
@@ -222,7 +255,7 @@ def curvature(P: ArrayLike, *, closed: bool = False, method: str = "turning_angl
     """
     if method not in CURVATURE_METHODS:
         raise InputError(f"method = {method!r}: expected one of {', '.join(CURVATURE_METHODS)}")
-    P = _as_curve(P)
+    P, exponent = _normalized_curve(P)
     if signed and P.shape[1] != 2:
         raise InputError("signed curvature is defined for planar (n, 2) curves only")
     distinct, representative = _distinct(P, closed, 3, "curvature")
@@ -236,7 +269,7 @@ def curvature(P: ArrayLike, *, closed: bool = False, method: str = "turning_angl
     if method == "turning_angle":
         kappa = turning / (0.5 * (h_in + h_out))
     elif method == "osculating_circle":
-        chord = np.linalg.norm(h_in[:, None] * d_in + h_out[:, None] * d_out, axis=1)
+        chord = _norms(h_in[:, None] * d_in + h_out[:, None] * d_out)
         reversal = chord <= 1e-12 * (h_in + h_out)
         # at an exact reversal (p_(i+1) = p_(i-1)) the circle has diameter h
         kappa = np.where(reversal, 2.0 / np.maximum(h_in, h_out),
@@ -245,4 +278,4 @@ def curvature(P: ArrayLike, *, closed: bool = False, method: str = "turning_angl
         kappa = 2.0 * np.linalg.norm(d_out - d_in, axis=1) / (h_in + h_out)
     if signed:
         kappa = np.where(sine < 0, -kappa, kappa)
-    return _with_open_ends(kappa, closed)[representative]
+    return _to_input(_with_open_ends(kappa, closed)[representative], exponent, -1, "the curvature")

@@ -2,6 +2,7 @@
 #include <meshsmith/decimation/clustering.h>
 
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/decimation/quadric.h>
 #include <meshsmith/topology/manifold.h>
@@ -38,11 +39,11 @@ std::vector<char> referenced_vertices(Eigen::Index n_vertices, const FaceRef& F)
 constexpr int kAxisBits = 21;
 
 /// Origin of the grid (minimum corner of the referenced vertices) and the referenced vertices.
-/// \throw InputError for a bad cell size or one that needs 2^21 or more cells along an axis.
+/// V and cell_size are in normalized coordinates (core/normalization.h), `exponent` the frame's
+/// (for the message, in input units).
+/// \throw InputError for a cell size that needs 2^21 or more cells along an axis.
 std::vector<int> grid_vertices(const VertexRef& V, const std::vector<char>& referenced, double cell_size,
-                               Eigen::Vector3d& origin) {
-  if (!(cell_size > 0.0) || !std::isfinite(cell_size))
-    throw InputError("cluster: cell_size must be a positive finite number, got " + std::to_string(cell_size));
+                               Eigen::Vector3d& origin, int exponent) {
   origin = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d upper = -origin;
   std::vector<int> vertices;
@@ -54,8 +55,9 @@ std::vector<int> grid_vertices(const VertexRef& V, const std::vector<char>& refe
     }
   const double extent = (upper - origin).maxCoeff();
   if (!(extent / cell_size < static_cast<double>((1 << kAxisBits) - 1)))
-    throw InputError("cluster: cell_size " + std::to_string(cell_size) + " is too small for the mesh extent (" +
-                     std::to_string(extent) + "): 2^21 or more cells per axis");
+    throw InputError("cluster: cell_size " + number_text(std::ldexp(cell_size, exponent)) +
+                     " is too small for the mesh extent (" + number_text(std::ldexp(extent, exponent)) +
+                     "): 2^21 or more cells per axis");
   return vertices;
 }
 
@@ -67,10 +69,10 @@ std::uint64_t cell_key(const VertexRef& V, Eigen::Index v, const Eigen::Vector3d
   return key;
 }
 
-Grid assign_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size) {
+Grid assign_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size, int exponent) {
   Grid grid;
   grid.cell_size = cell_size;
-  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, grid.origin);
+  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, grid.origin, exponent);
   std::vector<std::pair<std::uint64_t, int>> keyed(vertices.size());
   for (std::size_t i = 0; i < vertices.size(); ++i)
     keyed[i] = {cell_key(V, vertices[i], grid.origin, cell_size), vertices[i]};
@@ -89,9 +91,9 @@ Grid assign_cells(const VertexRef& V, const std::vector<char>& referenced, doubl
 }
 
 /// Number of distinct cells of the referenced vertices (what assign_cells would number).
-Eigen::Index count_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size) {
+Eigen::Index count_cells(const VertexRef& V, const std::vector<char>& referenced, double cell_size, int exponent) {
   Eigen::Vector3d origin;
-  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, origin);
+  const std::vector<int> vertices = grid_vertices(V, referenced, cell_size, origin, exponent);
   std::vector<std::uint64_t> keys(vertices.size());
   for (std::size_t i = 0; i < vertices.size(); ++i) keys[i] = cell_key(V, vertices[i], origin, cell_size);
   std::sort(keys.begin(), keys.end());
@@ -166,13 +168,27 @@ VertexMatrix representatives(const VertexRef& V, const FaceRef& F, const Grid& g
   return out;
 }
 
+
+/// The cell size in normalized units. \throw InputError unless it is positive and finite.
+double normalized_cell_size(double cell_size, const CoordinateFrame& frame) {
+  if (!(cell_size > 0.0) || !std::isfinite(cell_size))
+    throw InputError("cluster: cell_size must be a positive finite number, got " + number_text(cell_size));
+  return std::max(frame.to_normalized(cell_size, 1), std::numeric_limits<double>::denorm_min());
+}
+
 }  // namespace
 
-ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const ClusteringOptions& options,
+// Clustering runs on normalized coordinates (core/normalization.h): the quadric representative
+// is of degree 4 in the coordinates and the grid extent a difference of two of them, which
+// overflow near 1e77 and 1e308; the exact power-of-two scaling keeps the cells bit-identical.
+ClusteringResult cluster_vertices(const VertexRef& input_V, const FaceRef& F, const ClusteringOptions& options,
                                   const Progress& progress) {
-  validate_mesh(V, F);
+  validate_mesh(input_V, F);
+  const CoordinateFrame frame = normalizing_frame(input_V);
+  const double cell_size = normalized_cell_size(options.cell_size, frame);
+  const VertexMatrix V = frame.normalize_vertices(input_V);
   progress.report(0.0, "cluster: grid");
-  const Grid grid = assign_cells(V, referenced_vertices(V.rows(), F), options.cell_size);
+  const Grid grid = assign_cells(V, referenced_vertices(V.rows(), F), cell_size, frame.exponent);
   progress.report(0.3, "cluster: representatives");
   const VertexMatrix cluster_position = representatives(V, F, grid, options.representative);
   progress.report(0.6, "cluster: triangles");
@@ -218,6 +234,7 @@ ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const Cl
   result.vertex_cluster.resize(V.rows());
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     result.vertex_cluster(v) = grid.vertex_cluster[v] >= 0 ? cluster_output[grid.vertex_cluster[v]] : -1;
+  result.V = frame.vertices_to_input(result.V, "cluster: output vertex");
   result.is_manifold = result.F.rows() == 0 || topology::is_manifold(result.F);
   result.cell_size = options.cell_size;
   progress.report(1.0, "cluster: triangles");
@@ -226,11 +243,15 @@ ClusteringResult cluster_vertices(const VertexRef& V, const FaceRef& F, const Cl
 
 Eigen::Index occupied_cell_count(const VertexRef& V, const FaceRef& F, double cell_size) {
   validate_mesh(V, F);
-  return count_cells(V, referenced_vertices(V.rows(), F), cell_size);
+  const CoordinateFrame frame = normalizing_frame(V);
+  return count_cells(frame.normalize_vertices(V), referenced_vertices(V.rows(), F),
+                     normalized_cell_size(cell_size, frame), frame.exponent);
 }
 
-double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::Index target_vertices) {
-  validate_mesh(V, F);
+double cell_size_for_vertex_count(const VertexRef& input_V, const FaceRef& F, Eigen::Index target_vertices) {
+  validate_mesh(input_V, F);
+  const CoordinateFrame frame = normalizing_frame(input_V);
+  const VertexMatrix V = frame.normalize_vertices(input_V);
   if (target_vertices < 1)
     throw InputError("cluster: target_vertices must be at least 1, got " + std::to_string(target_vertices));
   const std::vector<char> referenced = referenced_vertices(V.rows(), F);
@@ -241,7 +262,8 @@ double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::I
       high = high.cwiseMax(V.row(v).transpose());
     }
   const double extent = (high - low).maxCoeff();
-  if (!(extent > 0.0)) return 1.0;  // every referenced vertex at one point: one cell whatever the size
+  // Every referenced vertex at one point: one cell whatever the size.
+  if (!(extent > 0.0)) return frame.exponent == 0 ? 1.0 : std::ldexp(1.0, frame.exponent);
   // count(size) falls (in tendency) as size grows; at extent·(1 + ε) it is 1.
   double small = extent * 1e-6, large = extent * 1.000001;
   double best = large;
@@ -250,7 +272,7 @@ double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::I
   const Eigen::Index good_enough = target_vertices - target_vertices / 200;
   for (int iteration = 0; iteration < 40; ++iteration) {
     const double size = std::sqrt(small * large);
-    const Eigen::Index count = count_cells(V, referenced, size);
+    const Eigen::Index count = count_cells(V, referenced, size, frame.exponent);
     if (count <= target_vertices && (best_count > target_vertices || count > best_count ||
                                      (count == best_count && size < best))) {
       best = size;
@@ -260,7 +282,7 @@ double cell_size_for_vertex_count(const VertexRef& V, const FaceRef& F, Eigen::I
     (count > target_vertices ? small : large) = size;
     if (large / small < 1.0 + 1e-9) break;
   }
-  return best;
+  return frame.to_input(best, 1, "cluster: the cell size");
 }
 
 }  // namespace meshsmith::decimation

@@ -3,6 +3,7 @@
 // and fairness criteria around one greedy loop, run by spatial parts at once on large meshes.
 #include <meshsmith/core/counting_sort.h>
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/large_vector.h>
 #include <meshsmith/core/parallel.h>
 #include <meshsmith/core/spatial_order.h>
@@ -404,8 +405,16 @@ class Decimator {
   }
 
   /// The best collapse of the edge of half-edge h (either direction, as the operator and the
-  /// boundary rule allow); cost = ∞ when none is allowed.
+  /// boundary rule allow); cost = ∞ when none is allowed, or when the cost or the placement is
+  /// not a finite number (never NaN: the queue and the multiple-choice sort need an order).
   Candidate evaluate(int h) const {
+    Candidate c = evaluate_any(h);
+    if (!(c.cost < kInfinity) || !c.target.allFinite()) c.cost = kInfinity;
+    return c;
+  }
+
+ private:
+  Candidate evaluate_any(int h) const {
     const int u = mesh_.from(h), v = mesh_.to(h);
     bool u_may_go, v_may_go;  // may u (v) be the removed vertex?
     if (!removable_ends(h, u_may_go, v_may_go)) return {};
@@ -422,6 +431,8 @@ class Decimator {
     const Vec3 target = optimal_position(q, 0.5 * (mesh_.position[u] + mesh_.position[v]));
     return {options_.cost == CollapseCost::quadric ? q.error(target) : cost_of(u, v, target), h, target};
   }
+
+ public:
 
   // Multiple-choice and the heap store candidates by half-edge; a boundary half-edge collapsed
   // backwards (its `to` removed) is stored as ~h, resolved here.
@@ -792,6 +803,15 @@ class CollapseQueue {
   const HalfedgeMesh& mesh_;
 };
 
+/// A double cost as the queue's float key: NaN or +∞ → not queued; a finite cost beyond the
+/// float range → the largest float (+∞ is the queue's "not queued" mark: queued as such, an
+/// edge would count as live but never be found, and the bucket scan would run off its end).
+inline float queue_cost(double cost) {
+  if (!(cost < kInfinity)) return CollapseQueue::kNotQueued;
+  return cost < static_cast<double>(std::numeric_limits<float>::max()) ? static_cast<float>(cost)
+                                                                        : std::numeric_limits<float>::max();
+}
+
 void check_options(const QemOptions& options) {
   if (options.target_faces < 0)
     throw InputError("decimate: target_faces must be >= 0, got " + std::to_string(options.target_faces));
@@ -859,8 +879,9 @@ class GreedyCollapser {
     while (faces_removed < stop && heap_.settle()) {
       const int e = heap_.top_edge();
       const Candidate c = decimator_.evaluate(e);
-      if (c.cost < kInfinity && static_cast<float>(c.cost) > heap_.top_cost()) {
-        heap_.set(e, static_cast<float>(c.cost));  // its cost grew: maybe not the cheapest now
+      const float queued = queue_cost(c.cost);
+      if (queued != CollapseQueue::kNotQueued && queued > heap_.top_cost()) {
+        heap_.set(e, queued);  // its cost grew: maybe not the cheapest now
         continue;
       }
       if (c.cost > ceiling) return;  // stays queued for a later round
@@ -885,8 +906,8 @@ class GreedyCollapser {
 
  private:
   void requeue(int edge) {
-    const double c = decimator_.evaluate(edge).cost;
-    if (c < kInfinity) heap_.set(edge, static_cast<float>(c));
+    const float c = queue_cost(decimator_.evaluate(edge).cost);
+    if (c != CollapseQueue::kNotQueued) heap_.set(edge, c);
     else heap_.remove(edge);
   }
   /// The edges of h's face, which dies or is glued away, leave the queue.
@@ -1009,7 +1030,7 @@ void fill_queues(const HalfedgeMesh& mesh, const std::vector<GreedyCollapser*>& 
       if (!run.may_queue(edge)) continue;
       float cost = carried;
       if (cost == kNone && (!was_locked || (*was_locked)[mesh.from(edge)] || (*was_locked)[mesh.to(edge)]))
-        cost = static_cast<float>(run.evaluate(edge).cost);
+        cost = queue_cost(run.evaluate(edge).cost);
       if (cost != kNone) lists[r].push_back(run.entry(edge, cost));
     }
   }, 1);
@@ -1033,11 +1054,10 @@ struct SplitMix64 {
 
 }  // namespace
 
-QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& options, const Progress& progress) {
-  validate_mesh(V, F);
-  check_options(options);
-  if (V.rows() >= std::numeric_limits<int>::max() / 4 || F.rows() >= std::numeric_limits<int>::max() / 4)
-    throw InputError("decimate: mesh too large (more than 2^29 vertices or faces)");
+namespace {
+
+/// decimate_qem on vertices in normalized coordinates (|coordinate| < 1), options in the same units.
+QemResult decimate_normalized(const VertexRef& V, const FaceRef& F, const QemOptions& options, const Progress& progress) {
 
   LocalInput local = renumber_for_locality(V, F);
   HalfedgeMesh mesh = build_halfedge_mesh(std::move(local.position), std::move(local.corners));
@@ -1211,6 +1231,39 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
       result.split_vertex_origin(local.to_input(static_cast<int>(w))) = local.to_input(mesh.split_origin[w]);
   }
   progress.report(1.0, "decimate");
+  return result;
+}
+
+}  // namespace
+
+QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& options, const Progress& progress) {
+  validate_mesh(V, F);
+  check_options(options);
+  if (V.rows() >= std::numeric_limits<int>::max() / 4 || F.rows() >= std::numeric_limits<int>::max() / 4)
+    throw InputError("decimate: mesh too large (more than 2^29 vertices or faces)");
+  // Quadrics are of degree 4 in the coordinates (area-weighted squared distances): they overflow
+  // from coordinates of about 1e77 and underflow below 1e-77. The decimation runs on normalized
+  // coordinates (core/normalization.h); positions and error bounds are mapped exactly.
+  const CoordinateFrame frame = normalizing_frame(V);
+  const int error_power = options.cost == CollapseCost::volume_change ? 3 : 2;
+  QemOptions normalized_options = options;
+  normalized_options.max_error = frame.to_normalized(options.max_error, error_power);
+  if (options.max_error > 0 && !(normalized_options.max_error > 0))  // below the smallest double
+    normalized_options.max_error = std::numeric_limits<double>::denorm_min();
+  QemResult result = decimate_normalized(frame.normalize_vertices(V), F, normalized_options, progress);
+  result.V = frame.vertices_to_input(result.V, "decimate: output vertex");
+  // The largest cost in input units: +∞ when it exceeds the double range (coordinates of 1e300
+  // give squared distances of 1e600), a figure the caller can still compare.
+  result.max_collapse_error = std::ldexp(result.max_collapse_error, error_power * frame.exponent);
+  const auto back = [&](Eigen::Vector3d& p) {
+    const VertexMatrix row = frame.vertices_to_input(p.transpose(), "decimate: a recorded collapse position");
+    p = row.row(0).transpose();
+  };
+  for (CollapseRecord& record : result.collapses) {
+    back(record.removed_position);
+    back(record.kept_position_before);
+    back(record.kept_position_after);
+  }
   return result;
 }
 

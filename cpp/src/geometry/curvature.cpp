@@ -4,6 +4,8 @@
 
 #include "triangle_corners.h"
 
+#include <meshsmith/core/normalization.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -219,12 +221,25 @@ Eigen::VectorXd gaussian_curvature(const VertexRef& V, const FaceRef& F,
 
 MeanCurvature mean_curvature(const VertexRef& V, const FaceRef& F, MassMatrixType area) {
   detail::validate_surface(V, F);
-  return mean_curvature_of(V, F, area);
+  // Coordinates beyond 2^±200: on normalized coordinates (the vertex areas of a 1e-300 mesh
+  // underflow to 0 in input units), H and Hn mapped back as length^-1.
+  const CoordinateFrame frame = normalizing_frame(V);
+  if (std::abs(frame.exponent) <= 200) return mean_curvature_of(V, F, area);
+  MeanCurvature result = mean_curvature_of(frame.normalize_vertices(V), F, area);
+  frame.to_input(result.H.data(), result.H.size(), -1, "mean_curvature: H at vertex");
+  frame.to_input(result.Hn.data(), result.Hn.size(), -1, "mean_curvature: Hn entry");
+  return result;
 }
 
-PrincipalCurvatures principal_curvatures(const VertexRef& V, const FaceRef& F,
+PrincipalCurvatures principal_curvatures(const VertexRef& input_V, const FaceRef& F,
                                          PrincipalCurvatureMethod method) {
-  detail::validate_surface(V, F);
+  detail::validate_surface(input_V, F);
+  // Coordinates beyond 2^±200: on normalized coordinates (core/normalization.h; the fitted
+  // tensors are products of up to four coordinates), curvatures mapped back as length^-1.
+  const CoordinateFrame frame = normalizing_frame(input_V);
+  const bool rescale = std::abs(frame.exponent) > 200;
+  const VertexMatrix normalized = rescale ? frame.normalize_vertices(input_V) : VertexMatrix();
+  const VertexRef V = rescale ? VertexRef(normalized) : input_V;
   const Eigen::Index n = V.rows(), m = F.rows();
   const detail::VertexCorners corners = detail::vertex_corners(F, n);
   const VertexMatrix normals = vertex_normals(V, F, NormalWeighting::angle);
@@ -242,6 +257,10 @@ PrincipalCurvatures principal_curvatures(const VertexRef& V, const FaceRef& F,
     fitted.d1.resize(n, 3);
     fitted.d2.resize(n, 3);
     quadric_fit_curvatures(V, F, corners, normals, fitted);
+    if (rescale) {
+      frame.to_input(fitted.k1.data(), fitted.k1.size(), -1, "principal_curvatures: k1 at vertex");
+      frame.to_input(fitted.k2.data(), fitted.k2.size(), -1, "principal_curvatures: k2 at vertex");
+    }
     return fitted;
   }
   const detail::CornerMatrix weights = detail::corner_areas(V, F, detail::CornerAreaRule::mixed_voronoi);
@@ -330,6 +349,10 @@ PrincipalCurvatures principal_curvatures(const VertexRef& V, const FaceRef& F,
       result.k1[v] = mean.H[v] + spread;
       result.k2[v] = mean.H[v] - spread;
     }
+  }
+  if (rescale) {
+    frame.to_input(result.k1.data(), result.k1.size(), -1, "principal_curvatures: k1 at vertex");
+    frame.to_input(result.k2.data(), result.k2.size(), -1, "principal_curvatures: k2 at vertex");
   }
   return result;
 }

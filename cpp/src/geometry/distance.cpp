@@ -1,4 +1,5 @@
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/geometry/distance.h>
 #include <meshsmith/geometry/measures.h>
@@ -402,10 +403,8 @@ double max_distance(const SurfaceDistance& tree, const VertexMatrix& P, const Pr
   return std::sqrt(largest.load());
 }
 
-}  // namespace
-
-SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
-                                    const SurfaceSampling& sampling, const Progress& progress) {
+SurfaceDistances hausdorff_normalized(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                      const SurfaceSampling& sampling, const Progress& progress) {
   const SampledSurfaces surfaces = sample_surfaces(VA, FA, VB, FB, sampling, progress);
   SurfaceDistances out;
   out.a_to_b = max_distance(surfaces.tree_b, surfaces.samples_a, progress.subrange(0.05, 0.5));
@@ -414,9 +413,8 @@ SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, cons
   return out;
 }
 
-SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB,
-                                       const FaceRef& FB, const SurfaceSampling& sampling,
-                                       const Progress& progress) {
+SurfaceDistances mean_normalized(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                 const SurfaceSampling& sampling, const Progress& progress) {
   const SampledSurfaces s = sample_surfaces(VA, FA, VB, FB, sampling, progress);
   const double area_a = s.weights_a.sum(), area_b = s.weights_b.sum();
   if (!(area_a > 0.0)) throw InputError("mesh A has zero total area: its mean distance is undefined");
@@ -426,6 +424,36 @@ SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, c
   out.b_to_a = s.weights_b.dot(s.tree_a.distances(s.samples_b, progress.subrange(0.5, 1.0))) / area_b;
   out.symmetric = (area_a * out.a_to_b + area_b * out.b_to_a) / (area_a + area_b);
   return out;
+}
+
+/// `measure` on both meshes in one normalized frame (core/normalization.h: the frame of the
+/// larger of the two), distances mapped back: area weights are products of two coordinates and
+/// their products with distances of three, which overflowed from 1e100 (NaN means).
+template <typename Measure>
+SurfaceDistances in_common_frame(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                 const SurfaceSampling& sampling, const Progress& progress, Measure measure) {
+  validate_named_mesh(VA, FA, "A");
+  validate_named_mesh(VB, FB, "B");
+  CoordinateFrame frame;
+  frame.exponent = std::max(normalizing_frame(VA).exponent, normalizing_frame(VB).exponent);
+  SurfaceDistances out = measure(frame.normalize_vertices(VA), FA, frame.normalize_vertices(VB), FB, sampling, progress);
+  out.symmetric = frame.to_input(out.symmetric, 1, "the surface distance");
+  out.a_to_b = frame.to_input(out.a_to_b, 1, "the surface distance from A to B");
+  out.b_to_a = frame.to_input(out.b_to_a, 1, "the surface distance from B to A");
+  return out;
+}
+
+}  // namespace
+
+SurfaceDistances hausdorff_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB, const FaceRef& FB,
+                                    const SurfaceSampling& sampling, const Progress& progress) {
+  return in_common_frame(VA, FA, VB, FB, sampling, progress, hausdorff_normalized);
+}
+
+SurfaceDistances mean_surface_distance(const VertexRef& VA, const FaceRef& FA, const VertexRef& VB,
+                                       const FaceRef& FB, const SurfaceSampling& sampling,
+                                       const Progress& progress) {
+  return in_common_frame(VA, FA, VB, FB, sampling, progress, mean_normalized);
 }
 
 }  // namespace meshsmith::geometry

@@ -1,4 +1,5 @@
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/geometry/distortion.h>
 
@@ -82,9 +83,19 @@ Eigen::VectorXd vertex_average(const FaceRef& F, Eigen::Index n_vertices, const 
 
 }  // namespace
 
-TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, const ParameterRef& UV) {
-  validate_mesh(V, F);
-  validate_parameters(V, UV);
+TriangleDistortion triangle_distortion(const VertexRef& input_V, const FaceRef& F, const ParameterRef& input_UV) {
+  validate_mesh(input_V, F);
+  validate_parameters(input_V, input_UV);
+  // The surface and the parameter domain each on normalized coordinates (core/normalization.h):
+  // areas and determinants are products of two coordinates, which under- or overflow from
+  // 1e±154. The Jacobian maps parameter lengths to surface lengths, so it and the stretches scale
+  // by 2^(surface exponent − parameter exponent); areas by 4^exponent of their own domain.
+  const CoordinateFrame surface_frame = normalizing_frame(input_V);
+  const CoordinateFrame parameter_frame = normalizing_frame(input_UV);
+  const VertexMatrix V = surface_frame.normalize_vertices(input_V);
+  const ParameterMatrix UV = parameter_frame.normalize(input_UV);
+  const int jacobian_exponent = surface_frame.exponent - parameter_frame.exponent;
+  const auto to_jacobian_units = [&](double x) { return std::ldexp(x, jacobian_exponent); };
   const Eigen::Index m = F.rows();
   TriangleDistortion out;
   out.jacobians.resize(m, 4);
@@ -107,7 +118,7 @@ TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, con
       parameter_edges.col(0) = UV.row(F(f, 1)).transpose() - q0;
       parameter_edges.col(1) = UV.row(F(f, 2)).transpose() - q0;
       const double parameter_det = parameter_edges.determinant();
-      const double surface_area = 0.5 * e1.cross(e2).norm();
+      const double surface_area = 0.5 * e1.cross(e2).norm();  // normalized units: the weights below
       out.surface_areas[f] = surface_area;
       out.parameter_areas[f] = 0.5 * parameter_det;
       out.flipped[f] = surface_area > 0.0 && parameter_det < 0.0;
@@ -123,26 +134,29 @@ TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, con
       }
       // J maps parameter edges onto surface edges: J · parameter_edges = surface_edges.
       const Eigen::Matrix2d J = edges_in_triangle_frame(e1, e2) * parameter_edges.inverse();
-      out.jacobians.row(f) << J(0, 0), J(0, 1), J(1, 0), J(1, 1);
       const Eigen::Vector2d sigma = singular_values_2x2(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
-      out.singular_values.row(f) = sigma.transpose();
-      const double s1 = sigma[0], s2 = sigma[1];
-      out.conformal[f] = s2 > 0.0 ? s1 / s2 : infinity;
+      out.jacobians.row(f) << to_jacobian_units(J(0, 0)), to_jacobian_units(J(0, 1)), to_jacobian_units(J(1, 0)),
+          to_jacobian_units(J(1, 1));
+      const double s1 = to_jacobian_units(sigma[0]), s2 = to_jacobian_units(sigma[1]);
+      out.singular_values.row(f) << s1, s2;
+      out.conformal[f] = sigma[1] > 0.0 ? sigma[0] / sigma[1] : infinity;
       out.isometric[f] = s2 > 0.0 ? (s1 * s1 + s2 * s2 + 1.0 / (s1 * s1) + 1.0 / (s2 * s2)) / 4.0 : infinity;
-      out.area[f] = s1 * s2;
-      out.stretch_l2[f] = std::sqrt((s1 * s1 + s2 * s2) / 2.0);
+      out.area[f] = std::ldexp(sigma[0] * sigma[1], 2 * jacobian_exponent);
+      out.stretch_l2[f] = to_jacobian_units(std::sqrt((sigma[0] * sigma[0] + sigma[1] * sigma[1]) / 2.0));
       out.stretch_linf[f] = s1;
     }
   });
 
-  // Fixed-order (serial) sums: the result does not depend on the thread count.
+  // Fixed-order (serial) sums: the result does not depend on the thread count. Weights and
+  // stretches in normalized units here; the global figures are mapped back at the end.
   double weighted_stretch = 0.0, total_surface = 0.0, total_parameter = 0.0, max_stretch = 0.0;
   for (Eigen::Index f = 0; f < m; ++f) {
     const double weight = out.surface_areas[f];
     if (weight > 0.0) {
       if (out.flipped[f]) out.flipped_faces.push_back(static_cast<int>(f));
       if (out.parameter_areas[f] == 0.0) out.degenerate_parameter_faces.push_back(static_cast<int>(f));
-      weighted_stretch += weight * out.stretch_l2[f] * out.stretch_l2[f];
+      const double stretch = std::ldexp(out.stretch_l2[f], -jacobian_exponent);
+      weighted_stretch += weight * stretch * stretch;
       total_surface += weight;
       total_parameter += std::abs(out.parameter_areas[f]);
       max_stretch = std::max(max_stretch, out.stretch_linf[f]);
@@ -151,13 +165,15 @@ TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, con
     }
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  out.global_stretch_l2 = total_surface > 0.0 ? std::sqrt(weighted_stretch / total_surface) : nan;
-  // A map whose UV triangles all have zero area cannot be scaled to the surface's area: its
-  // stretch is infinite at every scale (not inf * 0 = NaN).
+  const double global_l2 = total_surface > 0.0 ? std::sqrt(weighted_stretch / total_surface) : nan;
+  out.global_stretch_l2 = to_jacobian_units(global_l2);
+  // Scale-invariant: the same in normalized and input units. A map whose UV triangles all have
+  // zero area cannot be scaled to the surface's area: its stretch is infinite at every scale
+  // (not inf * 0 = NaN).
   const double inf = std::numeric_limits<double>::infinity();
   out.normalized_global_stretch_l2 =
       !(total_surface > 0.0) ? nan
-      : total_parameter > 0.0 ? out.global_stretch_l2 * std::sqrt(total_parameter / total_surface) : inf;
+      : total_parameter > 0.0 ? global_l2 * std::sqrt(total_parameter / total_surface) : inf;
   out.global_stretch_linf = total_surface > 0.0 ? max_stretch : nan;
 
   const Eigen::Index n = V.rows();
@@ -166,6 +182,10 @@ TriangleDistortion triangle_distortion(const VertexRef& V, const FaceRef& F, con
   out.vertex_area = vertex_average(F, n, out.surface_areas, out.area);
   out.vertex_stretch_l2 = vertex_average(F, n, out.surface_areas, out.stretch_l2);
   out.vertex_stretch_linf = vertex_average(F, n, out.surface_areas, out.stretch_linf);
+  surface_frame.to_input(out.surface_areas.data(), out.surface_areas.size(), 2,
+                         "triangle_distortion: the surface area of face");
+  parameter_frame.to_input(out.parameter_areas.data(), out.parameter_areas.size(), 2,
+                           "triangle_distortion: the parameter area of face");
   return out;
 }
 

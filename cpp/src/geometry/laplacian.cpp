@@ -71,8 +71,9 @@ Eigen::SparseMatrix<double> mean_value_laplacian(const VertexRef& V, const FaceR
         continue;
       }
       const double half_angle_tangent = t.double_area / denominator;
-      W(f, 2 * c) = half_angle_tangent / to_next;
-      W(f, 2 * c + 1) = half_angle_tangent / to_prev;
+      // Lengths in input units: 2^exponent times the scaled ones.
+      W(f, 2 * c) = std::ldexp(half_angle_tangent / to_next, -t.exponent);
+      W(f, 2 * c + 1) = std::ldexp(half_angle_tangent / to_prev, -t.exponent);
     }
   });
   detail::LaplacianWeights weights;
@@ -84,11 +85,16 @@ Eigen::VectorXd vertex_areas(const VertexRef& V, const FaceRef& F, MassMatrixTyp
   detail::validate_surface(V, F);
   const auto rule = type == MassMatrixType::barycentric ? detail::CornerAreaRule::barycentric
                                                         : detail::CornerAreaRule::mixed_voronoi;
-  return detail::accumulate_at_vertices<1>(F, V.rows(), [&](Eigen::Index f, double (*out)[1]) {
-    double areas[3];
-    detail::triangle_corner_areas(detail::triangle(V, F, f), rule, areas);
-    for (int c = 0; c < 3; ++c) out[c][0] = areas[c];
+  Eigen::VectorXd areas = detail::accumulate_at_vertices<1>(F, V.rows(), [&](Eigen::Index f, double (*out)[1]) {
+    double corner[3];
+    detail::triangle_corner_areas(detail::triangle(V, F, f), rule, corner);
+    for (int c = 0; c < 3; ++c) out[c][0] = corner[c];
   });
+  for (Eigen::Index v = 0; v < areas.size(); ++v)
+    if (!std::isfinite(areas[v]))
+      throw InputError("vertex_areas: the area of vertex " + std::to_string(v) +
+                       " exceeds the double range (about 1.8e308): its faces are too large; scale the mesh down");
+  return areas;
 }
 
 Eigen::SparseMatrix<double> mass_matrix(const VertexRef& V, const FaceRef& F, MassMatrixType type) {

@@ -1,3 +1,5 @@
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/geometry/measures.h>
 
@@ -6,7 +8,9 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_reduce.h>
 
+#include <cmath>
 #include <functional>
+#include <string>
 
 namespace meshsmith::geometry {
 
@@ -25,9 +29,18 @@ double deterministic_face_sum(Eigen::Index n_faces, const Term& term) {
       std::plus<double>());
 }
 
+/// Area of face f, computed on its edge vectors scaled into (−1, 1) (core/normalization.h):
+/// no overflow or underflow in the cross product, whatever the coordinates.
+/// \throw InputError if the area itself exceeds the double range (a triangle of size 1e155).
 double triangle_area(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
-  const Eigen::RowVector3d a = V.row(F(f, 0));
-  return 0.5 * (V.row(F(f, 1)) - a).cross(V.row(F(f, 2)) - a).norm();
+  Eigen::Vector3d ab, ac;
+  const CoordinateFrame frame = triangle_edge_vectors(V.row(F(f, 0)).data(), V.row(F(f, 1)).data(),
+                                                      V.row(F(f, 2)).data(), ab, ac);
+  const double area = std::ldexp(0.5 * ab.cross(ac).norm(), 2 * frame.exponent);
+  if (!std::isfinite(area))
+    throw InputError("the area of face " + std::to_string(f) + " exceeds the double range (about 1.8e308): its "
+                     "edges are up to 2^" + std::to_string(frame.exponent) + " long; scale the mesh down");
+  return area;
 }
 
 }  // namespace
@@ -44,15 +57,22 @@ Eigen::VectorXd face_areas(const VertexRef& V, const FaceRef& F) {
 
 double surface_area(const VertexRef& V, const FaceRef& F) {
   validate_mesh(V, F);
-  return deterministic_face_sum(F.rows(), [&](Eigen::Index f) { return triangle_area(V, F, f); });
+  const double total = deterministic_face_sum(F.rows(), [&](Eigen::Index f) { return triangle_area(V, F, f); });
+  if (!std::isfinite(total))
+    throw InputError("surface_area: the total area exceeds the double range (about 1.8e308); scale the mesh down");
+  return total;
 }
 
 double volume(const VertexRef& V, const FaceRef& F) {
   validate_mesh(V, F);
-  return deterministic_face_sum(F.rows(), [&](Eigen::Index f) {
-           const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-           return a.dot(b.cross(c));
-         }) / 6.0;
+  // A sum of degree-3 terms: on normalized coordinates (core/normalization.h), then scaled back.
+  const CoordinateFrame frame = normalizing_frame(V);
+  const VertexMatrix W = frame.normalize_vertices(V);
+  const double normalized = deterministic_face_sum(F.rows(), [&](Eigen::Index f) {
+                              const Eigen::RowVector3d a = W.row(F(f, 0)), b = W.row(F(f, 1)), c = W.row(F(f, 2));
+                              return a.dot(b.cross(c));
+                            }) / 6.0;
+  return frame.to_input(normalized, 3, "volume: the enclosed volume");
 }
 
 }  // namespace meshsmith::geometry

@@ -2,6 +2,13 @@
 
 #include "triangle_corners.h"
 
+#include <meshsmith/core/normalization.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 namespace meshsmith::geometry {
 
 VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
@@ -21,13 +28,27 @@ VertexMatrix face_normals(const VertexRef& V, const FaceRef& F) {
 VertexMatrix vertex_normals(const VertexRef& V, const FaceRef& F, NormalWeighting weighting) {
   detail::validate_surface(V, F);
   VertexMatrix N;
-  if (weighting == NormalWeighting::area) {
+  if (weighting == NormalWeighting::area && std::abs(normalizing_frame(V).exponent) <= 200) {
     // Area weighting adds each face's cross product (2·area·unit normal) to its corners: no
     // angles, lengths or degeneracy test needed (a degenerate face's cross product is ~0).
     N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
       const Eigen::Vector3d cross = detail::triangle_cross(V, F, f);
       for (int c = 0; c < 3; ++c)
         for (int k = 0; k < 3; ++k) out[c][k] = cross[k];
+    });
+  } else if (weighting == NormalWeighting::area) {
+    // Coordinates beyond 2^±200: the cross products come scaled by 4^-exponent (triangle()), and
+    // each vertex adds them relative to the largest face around it, 4^(exponent − largest), so
+    // none overflows and a face fades only where it is negligible next to that largest one.
+    std::vector<int> face_exponent(static_cast<std::size_t>(F.rows()));
+    detail::parallel_for(F.rows(), [&](Eigen::Index f) { face_exponent[f] = detail::triangle(V, F, f).exponent; });
+    std::vector<int> largest(static_cast<std::size_t>(V.rows()), std::numeric_limits<int>::min());
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      for (int c = 0; c < 3; ++c) largest[F(f, c)] = std::max(largest[F(f, c)], face_exponent[f]);
+    N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {
+      const detail::Triangle t = detail::triangle(V, F, f);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) out[c][k] = std::ldexp(t.cross[k], 2 * (t.exponent - largest[F(f, c)]));
     });
   } else {
     N = detail::accumulate_at_vertices<3>(F, V.rows(), [&](Eigen::Index f, double (*out)[3]) {

@@ -1,5 +1,7 @@
 #include <meshsmith/geometry/spectral.h>
 
+#include <meshsmith/core/normalization.h>
+
 #include <meshsmith/core/errors.h>
 
 #include "triangle_corners.h"
@@ -59,9 +61,14 @@ class CholmodShiftInvert {
 
 }  // namespace
 
-LaplacianEigenpairs laplacian_eigenpairs(const VertexRef& V, const FaceRef& F, Eigen::Index k,
+LaplacianEigenpairs laplacian_eigenpairs(const VertexRef& input_V, const FaceRef& F, Eigen::Index k,
                                          MassMatrixType mass, const Progress& progress) {
-  detail::validate_surface(V, F);
+  detail::validate_surface(input_V, F);
+  // On normalized coordinates (core/normalization.h): the shift-invert solve and its tolerances
+  // need masses near 1 (at 1e±150 they under- or overflow the Lanczos iteration). Eigenvalues
+  // scale as length^-2 and M-orthonormal vectors as length^-1, both mapped back exactly.
+  const CoordinateFrame frame = normalizing_frame(input_V);
+  const VertexMatrix V = frame.normalize_vertices(input_V);
   const Eigen::Index n = V.rows();
   if (k < 1 || k >= n) {
     throw InputError("k = " + std::to_string(k) + " eigenpairs requested: expected 1 <= k < #V = " +
@@ -118,6 +125,8 @@ LaplacianEigenpairs laplacian_eigenpairs(const VertexRef& V, const FaceRef& F, E
     result.vectors.col(i) = u;
   }
   progress.report(1.0, "done");
+  frame.to_input(result.values.data(), result.values.size(), -2, "laplacian_eigenpairs: eigenvalue");
+  frame.to_input(result.vectors.data(), result.vectors.size(), -1, "laplacian_eigenpairs: eigenvector entry");
   return result;
 }
 

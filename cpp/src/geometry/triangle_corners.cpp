@@ -1,6 +1,7 @@
 #include "triangle_corners.h"
 
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 
 #include <Eigen/Geometry>
@@ -56,22 +57,45 @@ Eigen::Vector3d triangle_cross(const VertexRef& V, const FaceRef& F, Eigen::Inde
   return (V.row(F(f, 1)).transpose() - p0).cross(V.row(F(f, 2)).transpose() - p0);
 }
 
-Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
-  prefetch_corners_ahead(V, F, f);
-  Triangle t;
-  for (int c = 0; c < 3; ++c) t.p[c] = V.row(F(f, c)).transpose();
-  t.cross = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
+namespace {
+
+/// cross, double_area, dot, squared_edge and degenerate of t from its corners q (any scale).
+double fill_products(Triangle& t, const Eigen::Vector3d q[3]) {
+  t.cross = (q[1] - q[0]).cross(q[2] - q[0]);
   t.double_area = t.cross.norm();
   double longest = 0.0;
   for (int c = 0; c < 3; ++c) {
-    const Eigen::Vector3d& here = t.p[c];
-    const Eigen::Vector3d& next = t.p[(c + 1) % 3];
-    const Eigen::Vector3d& prev = t.p[(c + 2) % 3];
+    const Eigen::Vector3d& here = q[c];
+    const Eigen::Vector3d& next = q[(c + 1) % 3];
+    const Eigen::Vector3d& prev = q[(c + 2) % 3];
     t.dot[c] = (next - here).dot(prev - here);
     t.squared_edge[c] = (prev - next).squaredNorm();
     longest = std::max(longest, t.squared_edge[c]);
   }
   t.degenerate = !(t.double_area > 8.0 * std::numeric_limits<double>::epsilon() * longest);
+  return longest;
+}
+
+}  // namespace
+
+Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
+  prefetch_corners_ahead(V, F, f);
+  Triangle t;
+  for (int c = 0; c < 3; ++c) t.p[c] = V.row(F(f, c)).transpose();
+  const double longest = fill_products(t, t.p);
+  const bool one_point = longest == 0.0 && t.p[0] == t.p[1] && t.p[0] == t.p[2];  // not an underflow
+  if ((longest >= 0x1p-500 && longest <= 0x1p500) || one_point) return t;  // the usual case
+  // Edges beyond 2^±250 (or NaN products from an overflow): the same on the corners scaled into
+  // (−1, 1) by a power of two, exactly, so the products are the scaled ones bit for bit (edges
+  // are at least an ulp of the corners, 2^-53 of them, so none of them underflows).
+  PointMatrix corners(3, 3);
+  for (int c = 0; c < 3; ++c) corners.row(c) = t.p[c].transpose();
+  const CoordinateFrame frame = normalizing_frame(corners);
+  const PointMatrix scaled = frame.normalize(corners);
+  Eigen::Vector3d q[3];
+  for (int c = 0; c < 3; ++c) q[c] = scaled.row(c).transpose();
+  t.exponent = frame.exponent;
+  fill_products(t, q);
   return t;
 }
 
@@ -135,7 +159,7 @@ void triangle_angles(const Triangle& t, double angles[3]) {
 }
 
 void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[3]) {
-  const double area = 0.5 * t.double_area;
+  const double area = std::ldexp(0.5 * t.double_area, 2 * t.exponent);
   // Degenerate triangles have no circumcentre, and (numerically) no area to share anyway.
   if (rule == CornerAreaRule::barycentric || t.degenerate) {
     areas[0] = areas[1] = areas[2] = area / 3.0;
@@ -156,6 +180,8 @@ void triangle_corner_areas(const Triangle& t, CornerAreaRule rule, double areas[
     areas[c] = (t.squared_edge[next] * t.dot[next] + t.squared_edge[prev] * t.dot[prev]) /
                (8.0 * t.double_area);
   }
+  if (t.exponent != 0)
+    for (int c = 0; c < 3; ++c) areas[c] = std::ldexp(areas[c], 2 * t.exponent);
 }
 
 CornerMatrix corner_areas(const VertexRef& V, const FaceRef& F, CornerAreaRule rule) {

@@ -46,14 +46,20 @@ struct VertexCorners {
 /// \pre every index of F is in [0, n).
 VertexCorners vertex_corners(const FaceRef& F, Eigen::Index n);
 
-/// The geometry of one triangle that every quantity here derives from.
+/// The geometry of one triangle that every quantity here derives from. cross, double_area, dot
+/// and squared_edge are those of the triangle scaled by 2^-exponent: exponent is 0 unless the
+/// longest edge is outside [2^-250, 2^250], where products of four coordinates would underflow
+/// or overflow; then the corners are scaled into (−1, 1) (core/normalization.h, exact).
+/// Ratios (cotangents, angles, unit normals) need nothing; an area is 4^exponent times its
+/// scaled value, a length 2^exponent times.
 struct Triangle {
-  Eigen::Vector3d p[3];     // corner positions
+  Eigen::Vector3d p[3];     // corner positions (input coordinates)
   Eigen::Vector3d cross;    // (p1 − p0) × (p2 − p0) = 2·area·unit normal
   double double_area;       // |cross|
   double dot[3];            // (p_next − p_c) · (p_prev − p_c) at corner c
   double squared_edge[3];   // |p_prev − p_next|², the edge opposite corner c
   bool degenerate;          // double_area ≤ 8·ε·(longest edge)²: cotangents would blow up
+  int exponent = 0;         // the scaling above
 };
 Triangle triangle(const VertexRef& V, const FaceRef& F, Eigen::Index f);
 /// Just (p1 − p0) × (p2 − p0) of face f, with the same prefetching as triangle().

@@ -415,7 +415,9 @@ const char* method_name(AbfMethod method) { return method == AbfMethod::AbfPlusP
 
 }  // namespace
 
-AbfResult abf(const VertexRef& V, const FaceRef& F, const AbfOptions& options, const Progress& progress) {
+AbfResult abf(const VertexRef& input_V, const FaceRef& F, const AbfOptions& options, const Progress& progress) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   check_options(options);
   const Disk disk = check_disk(V, F);
   const Eigen::Index m = F.rows();
@@ -454,6 +456,7 @@ AbfResult abf(const VertexRef& V, const FaceRef& F, const AbfOptions& options, c
   result.uv = uv_from_angles(F, V.rows(), result.angles, farthest_boundary_pins(V, disk.boundary_loop),
                              progress.subrange(0.9, 1.0));
   scale_to_surface_area(V, F, result.uv);
+  normalized.frame.to_input(result.uv.data(), result.uv.size(), 1, "abf: uv coordinate");
   return result;
 }
 

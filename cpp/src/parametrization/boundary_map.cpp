@@ -36,7 +36,9 @@ Eigen::RowVector2d on_square_side(int k, double t) {
 
 }  // namespace
 
-BoundaryMap map_boundary_loop(const VertexRef& V, const std::vector<int>& loop, BoundaryShape shape) {
+BoundaryMap map_boundary_loop(const VertexRef& input_V, const std::vector<int>& loop, BoundaryShape shape) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const std::size_t b = loop.size();
   const std::size_t minimum = shape == BoundaryShape::square ? 4 : 3;
   if (b < minimum) {
@@ -75,7 +77,9 @@ BoundaryMap map_boundary_loop(const VertexRef& V, const std::vector<int>& loop, 
   return map;
 }
 
-BoundaryMap map_boundary(const VertexRef& V, const FaceRef& F, BoundaryShape shape) {
+BoundaryMap map_boundary(const VertexRef& input_V, const FaceRef& F, BoundaryShape shape) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::has_boundary, "map_boundary");
   return map_boundary_loop(V, mesh.boundary_loops.front(), shape);
 }

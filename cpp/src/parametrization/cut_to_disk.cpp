@@ -157,13 +157,17 @@ int corner_at(const FaceRef& F, int f, int v) {
 
 }  // namespace
 
-CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F) {
+CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F) {
+  // Path lengths on normalized coordinates (edge lengths of 1e300-sized meshes overflowed to
+  // inf and broke the shortest paths); the cut mesh copies the input's rows.
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto checked = detail::check_mesh(V, F, detail::Requirement::any, "cut_to_disk");
   const EdgeIncidence& incidence = checked.incidence;
   const Eigen::Index n = V.rows(), m = F.rows();
   CutMesh result;
   if (checked.is_disk()) {
-    result.V = V;
+    result.V = input_V;
     result.F = F;
     result.vertex_origin.setLinSpaced(n, 0, static_cast<int>(n - 1));
     result.seam_edges.resize(0, 2);
@@ -229,7 +233,7 @@ CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F) {
   }
   result.vertex_origin = Eigen::Map<const Eigen::VectorXi>(origin.data(), static_cast<Eigen::Index>(origin.size()));
   result.V.resize(static_cast<Eigen::Index>(origin.size()), 3);
-  for (std::size_t i = 0; i < origin.size(); ++i) result.V.row(i) = V.row(origin[i]);
+  for (std::size_t i = 0; i < origin.size(); ++i) result.V.row(i) = input_V.row(origin[i]);
   result.F.resize(m, 3);
   for (int c = 0; c < 3 * m; ++c) result.F(c / 3, c % 3) = group_vertex[find_root(parent, c)];
 

@@ -44,13 +44,17 @@ geometry::ParameterMatrix harmonic_from_laplacian(const Eigen::SparseMatrix<doub
   return detail::solve_harmonic(L, boundary, symmetric, nullptr);
 }
 
-geometry::ParameterMatrix harmonic(const VertexRef& V, const FaceRef& F, const BoundaryMap& boundary,
+geometry::ParameterMatrix harmonic(const VertexRef& input_V, const FaceRef& F, const BoundaryMap& boundary,
                                    HarmonicWeights weights) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   detail::check_mesh(V, F, detail::Requirement::any, "harmonic");
   return detail::solve_harmonic(weight_laplacian(V, F, weights), boundary, weights != HarmonicWeights::mean_value, &V);
 }
 
-geometry::ParameterMatrix harmonic(const VertexRef& V, const FaceRef& F, const HarmonicOptions& options) {
+geometry::ParameterMatrix harmonic(const VertexRef& input_V, const FaceRef& F, const HarmonicOptions& options) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   // The checks and the Laplacian read the same arrays and are independent: they run
   // concurrently (the Laplacian validates its own input), and a failed check is reported first.
   detail::CheckedMesh mesh;

@@ -32,8 +32,9 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
     }
     const Eigen::Vector3d p = V.row(a), q = V.row(b), r = V.row(c);
     if ((q - p).cross(r - p).squaredNorm() == 0.0) {
-      fail(function, "face " + std::to_string(f) + " has zero area (collinear corners): remove or "
-                     "repair degenerate faces first");
+      fail(function, "face " + std::to_string(f) + " has zero area (collinear corners, or a face some 1e80 "
+                     "times smaller than the mesh, such as next to one far vertex): remove or repair "
+                     "degenerate faces first");
     }
     used[a] = used[b] = used[c] = 1;
   }
@@ -47,6 +48,14 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
 }
 
 }  // namespace
+
+NormalizedVertices normalized(const VertexRef& V) {
+  validate_vertices(V, "V");
+  NormalizedVertices result;
+  result.frame = normalizing_frame(V);
+  result.V = result.frame.normalize_vertices(V);
+  return result;
+}
 
 CheckedMesh check_mesh(const VertexRef& V, const FaceRef& F, Requirement requirement, const char* function) {
   validate_mesh(V, F);

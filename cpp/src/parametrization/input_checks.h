@@ -2,12 +2,26 @@
 // Internal to the parametrization chapter (not installed API): the checks every map runs on its
 // input before it builds a linear system, so that bad input gives a clear InputError instead of
 // a singular matrix, a hang or silent garbage.
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/types.h>
 #include <meshsmith/topology/edge_incidence.h>
 
 #include <vector>
 
 namespace meshsmith::parametrization::detail {
+
+/// The vertices in normalized coordinates (core/normalization.h) and their frame. Every map of
+/// the chapter is scale-invariant (uniform, cotangent and mean-value weights, conformal energy,
+/// angles), so each runs on these: inputs of 1e-300 or 1e300 give the answer of 1e0 (zero-area
+/// tests, squared lengths and areas would underflow or overflow otherwise); outputs in length
+/// units (LSCM's default pins, ABF's and spectral LSCM's area scaling) are mapped back with the
+/// frame.
+struct NormalizedVertices {
+  VertexMatrix V;
+  CoordinateFrame frame;
+};
+/// \throw InputError if V is empty or not finite (validate_vertices, on the input's values).
+NormalizedVertices normalized(const VertexRef& V);
 
 /// What the checks learned about a valid mesh, reused by the caller.
 struct CheckedMesh {

@@ -175,28 +175,43 @@ class ShiftedConformalInverse {
 
 }  // namespace
 
-Eigen::SparseMatrix<double> conformal_energy_matrix(const VertexRef& V, const FaceRef& F) {
+Eigen::SparseMatrix<double> conformal_energy_matrix(const VertexRef& input_V, const FaceRef& F) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto incidence = topology::edge_incidence(F, V.rows());
   return energy_matrix(V, F, boundary_sides(F, incidence));
 }
 
-PinnedVertices default_lscm_pins(const VertexRef& V, const FaceRef& F) {
+PinnedVertices default_lscm_pins(const VertexRef& input_V, const FaceRef& F) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::disk, "lscm");
-  return pins_on_loop(V, mesh.boundary_loops.front());
+  PinnedVertices pins = pins_on_loop(V, mesh.boundary_loops.front());
+  normalized.frame.to_input(pins.uv.data(), pins.uv.size(), 1, "lscm: pinned position");
+  return pins;
 }
 
-geometry::ParameterMatrix lscm(const VertexRef& V, const FaceRef& F, const PinnedVertices& pinned) {
+geometry::ParameterMatrix lscm(const VertexRef& input_V, const FaceRef& F, const PinnedVertices& pinned) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::has_boundary, "lscm");
   check_pins(pinned, V.rows());
   return solve_pinned(V, F, boundary_sides(F, mesh.incidence), pinned);
 }
 
-geometry::ParameterMatrix lscm(const VertexRef& V, const FaceRef& F) {
+geometry::ParameterMatrix lscm(const VertexRef& input_V, const FaceRef& F) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::disk, "lscm");
-  return solve_pinned(V, F, boundary_sides(F, mesh.incidence), pins_on_loop(V, mesh.boundary_loops.front()));
+  geometry::ParameterMatrix uv =
+      solve_pinned(V, F, boundary_sides(F, mesh.incidence), pins_on_loop(V, mesh.boundary_loops.front()));
+  normalized.frame.to_input(uv.data(), uv.size(), 1, "lscm: uv coordinate");
+  return uv;
 }
 
-geometry::ParameterMatrix lscm_spectral(const VertexRef& V, const FaceRef& F) {
+geometry::ParameterMatrix lscm_spectral(const VertexRef& input_V, const FaceRef& F) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   const auto mesh = detail::check_mesh(V, F, detail::Requirement::has_boundary, "lscm_spectral");
   const Eigen::Index n = V.rows();
   const auto sides = boundary_sides(F, mesh.incidence);
@@ -260,6 +275,7 @@ geometry::ParameterMatrix lscm_spectral(const VertexRef& V, const FaceRef& F) {
   }
   if (parameter_area < 0.0) uv.col(1) = -uv.col(1);
   uv *= std::sqrt(surface_area / std::abs(parameter_area));
+  normalized.frame.to_input(uv.data(), uv.size(), 1, "lscm_spectral: uv coordinate");
   return uv;
 }
 

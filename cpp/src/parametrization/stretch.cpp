@@ -10,8 +10,10 @@
 
 namespace meshsmith::parametrization {
 
-StretchResult stretch_minimizing(const VertexRef& V, const FaceRef& F, const StretchOptions& options,
+StretchResult stretch_minimizing(const VertexRef& input_V, const FaceRef& F, const StretchOptions& options,
                                  const Progress& progress) {
+  const auto normalized = detail::normalized(input_V);
+  const VertexRef V(normalized.V);
   if (options.iterations < 0) {
     throw InputError("stretch_minimizing: iterations must be >= 0, not " + std::to_string(options.iterations));
   }

@@ -71,7 +71,8 @@ double degeneracy_scale(const VertexMatrix& points) {
 
 NormalEstimate estimate_normals(const KdTree& tree, const NormalEstimationOptions& options,
                                 const Progress& progress) {
-  const VertexMatrix& points = tree.points();
+  // Plane fits are scale-invariant: everything runs on the tree's normalized points.
+  const VertexMatrix& points = tree.normalized_points();
   const Eigen::Index n = points.rows();
   const bool use_radius = options.radius != 0.0;
   if (use_radius) {
@@ -97,7 +98,8 @@ NormalEstimate estimate_normals(const KdTree& tree, const NormalEstimationOption
   NormalEstimate result{VertexMatrix(n, 3), Eigen::VectorXd(n)};
   const auto& order = tree.leaf_order();
   const int wanted = options.k + 1;
-  const double squared_radius = options.radius * options.radius;
+  const double normalized_radius = std::min(tree.frame().to_normalized(options.radius, 1), 4.0);  // 4 > the diameter
+  const double squared_radius = normalized_radius * normalized_radius;
   parallel_for_with_progress(n, progress, "estimate normals", [&](Eigen::Index t) {
     const std::uint32_t i = order[static_cast<std::size_t>(t)];
     const double* point = points.row(i).data();

@@ -1,6 +1,8 @@
 // Input checks and duplicate merging shared by the 2D tessellation functions.
 #include "planar_detail.h"
 
+#include <meshsmith/core/normalization.h>
+
 #include <meshsmith/core/errors.h>
 
 #include <algorithm>
@@ -40,8 +42,7 @@ std::vector<int> merge_duplicates(const PointRef2& P) {
 double normalizing_scale(const PointRef2& P) {
   const double magnitude = P.rows() ? P.cwiseAbs().maxCoeff() : 0.0;
   if (magnitude == 0) return 1.0;
-  int exponent = 0;
-  std::frexp(magnitude, &exponent);  // magnitude = m * 2^exponent, m in [0.5, 1)
+  const int exponent = normalizing_frame(P).exponent;  // magnitude in [2^(exponent-1), 2^exponent)
   const double extent = (P.colwise().maxCoeff() - P.colwise().minCoeff()).maxCoeff();
   if (extent < 1e-100 * magnitude)
     throw InputError("P: the points span " + std::to_string(extent) +

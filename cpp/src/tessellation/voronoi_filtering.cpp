@@ -1,6 +1,7 @@
 // Voronoi filtering (§2.1.3): the 2D crust, the approximate medial axis and LFS (§2.1.2), and
 // the 3D Cocone reconstruction with its manifold extraction.
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/points/kd_tree.h>
 #include <meshsmith/tessellation/voronoi_filtering.h>
 
@@ -109,6 +110,16 @@ CrustData crust_data(const Eigen::Ref<const Eigen::MatrixXd>& samples, const cha
   return data;
 }
 
+/// The samples on normalized coordinates (core/normalization.h): circumcentres are cubic over
+/// quadratic in the coordinates and under- or overflowed from 1e±154 (falling back to the
+/// centroid, which changed the medial axis and the crust). Contouring is scale-invariant, so
+/// each entry point runs on these and maps lengths and positions back with `frame`.
+Eigen::MatrixXd normalized_samples(const Eigen::Ref<const Eigen::MatrixXd>& samples, CoordinateFrame& frame) {
+  const PointMatrix rows = samples;
+  frame = normalizing_frame(rows);
+  return frame.normalize(rows);
+}
+
 EdgeMatrix keys_to_edges(const std::vector<std::uint64_t>& keys) {
   EdgeMatrix E(static_cast<Eigen::Index>(keys.size()), 2);
   for (std::size_t e = 0; e < keys.size(); ++e) {
@@ -120,11 +131,14 @@ EdgeMatrix keys_to_edges(const std::vector<std::uint64_t>& keys) {
 
 }  // namespace
 
-EdgeMatrix crust(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
-  return keys_to_edges(crust_data(samples, "crust").crust_edges);
+EdgeMatrix crust(const Eigen::Ref<const Eigen::MatrixXd>& input_samples) {
+  CoordinateFrame frame;
+  return keys_to_edges(crust_data(normalized_samples(input_samples, frame), "crust").crust_edges);
 }
 
-MedialAxis medial_axis(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
+namespace {
+
+MedialAxis medial_axis_normalized(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
   const CrustData data = crust_data(samples, "medial_axis");
   const auto& T = data.delaunay.simplices;
   // Delaunay edge → the (one or two) triangles on it.
@@ -157,8 +171,9 @@ MedialAxis medial_axis(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
   return axis;
 }
 
-Eigen::VectorXd local_feature_size(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
-  const MedialAxis axis = medial_axis(samples);
+/// local_feature_size on normalized samples, in their units.
+Eigen::VectorXd local_feature_size_normalized(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
+  const MedialAxis axis = medial_axis_normalized(samples);
   const Eigen::Index n = samples.rows();
   Eigen::VectorXd lfs(n);
   if (axis.vertices.rows() == 0) {
@@ -169,18 +184,38 @@ Eigen::VectorXd local_feature_size(const Eigen::Ref<const Eigen::MatrixXd>& samp
   axis_points.leftCols(2) = axis.vertices;
   const points::KdTree tree(axis_points);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double query[3] = {samples(i, 0), samples(i, 1), 0.0};
+    const double sample[3] = {samples(i, 0), samples(i, 1), 0.0};
+    double query[3];
+    tree.frame().normalize_point(sample, query);
     std::uint32_t nearest = 0;
     double squared = 0.0;
     tree.nearest(query, 1, &nearest, &squared);
-    lfs(i) = std::sqrt(squared);
+    lfs(i) = tree.frame().to_input(std::sqrt(squared), 1, "local_feature_size: a distance");
   }
   return lfs;
 }
 
-double sampling_ratio(const Eigen::Ref<const Eigen::MatrixXd>& samples) {
+}  // namespace
+
+MedialAxis medial_axis(const Eigen::Ref<const Eigen::MatrixXd>& input_samples) {
+  CoordinateFrame frame;
+  MedialAxis axis = medial_axis_normalized(normalized_samples(input_samples, frame));
+  axis.vertices = frame.positions_to_input(PointMatrix(axis.vertices), "medial_axis: vertex");
+  return axis;
+}
+
+Eigen::VectorXd local_feature_size(const Eigen::Ref<const Eigen::MatrixXd>& input_samples) {
+  CoordinateFrame frame;
+  Eigen::VectorXd lfs = local_feature_size_normalized(normalized_samples(input_samples, frame));
+  frame.to_input(lfs.data(), lfs.size(), 1, "local_feature_size: sample");
+  return lfs;
+}
+
+double sampling_ratio(const Eigen::Ref<const Eigen::MatrixXd>& input_samples) {
+  CoordinateFrame frame;
+  const Eigen::MatrixXd samples = normalized_samples(input_samples, frame);  // the ratio is scale-invariant
   const EdgeMatrix E = crust(samples);
-  const Eigen::VectorXd lfs = local_feature_size(samples);
+  const Eigen::VectorXd lfs = local_feature_size_normalized(samples);
   double ratio = 0.0;
   for (Eigen::Index e = 0; e < E.rows(); ++e) {
     const double half = 0.5 * (samples.row(E(e, 0)) - samples.row(E(e, 1))).norm();
@@ -820,9 +855,13 @@ class SurfaceRepair {
 
 }  // namespace
 
-Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& options,
+Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& input_P, const CoconeOptions& options,
               const Progress& progress) {
-  check_samples(P, 3, 4, "crust_3d");
+  check_samples(input_P, 3, 4, "crust_3d");
+  CoordinateFrame frame;
+  const Eigen::MatrixXd normalized = normalized_samples(input_P, frame);
+  // A Ref that lives as long as the helpers below that keep a reference to it.
+  const Eigen::Ref<const Eigen::MatrixXd> P(normalized);
   if (!(options.cocone_angle > 0.0 && options.cocone_angle < 1.5707963267948966))
     throw InputError("crust_3d: cocone_angle must lie in (0, pi/2)");
   if (options.max_hole_edges < 0) throw InputError("crust_3d: max_hole_edges must be >= 0");
@@ -1066,7 +1105,7 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& P, const CoconeOptions& o
   progress.report(1.0, "crust_3d");
 
   Mesh mesh;
-  mesh.V = P;
+  mesh.V = input_P;
   mesh.F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
   for (std::size_t r = 0; r < triangles.size(); ++r)
     for (int j = 0; j < 3; ++j) mesh.F(static_cast<Eigen::Index>(r), j) = triangles[r][j];

@@ -136,9 +136,11 @@ def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: P
 
 def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress: ProgressCallback) -> tuple[CutMesh | None, np.ndarray]:
     """One chart (a connected mesh, every vertex used): (its cut or None, UV on the cut's vertices)."""
-    info = topology.info(V, F)
+    # Only the topology is needed (topology.info would also compute the area and volume, which
+    # are InputErrors for coordinates near 1e155 and beyond).
+    is_disk = len(topology.boundary_loops(F)) == 1 and topology.euler_characteristic(F) == 1
     cut = None
-    if not (info.n_boundary_loops == 1 and info.euler_characteristic == 1):
+    if not is_disk:
         cut = cut_to_disk(V, F)
         V, F = cut.V, cut.F
     if method == "tutte":

@@ -182,7 +182,12 @@ def triangle_angles(V: ArrayLike, F: ArrayLike) -> FloatArray:
     faces = _arguments.index_array(F, "F", 3)
     if faces.size and (faces.min() < 0 or faces.max() >= len(points)):
         raise InputError(f"F indexes a vertex outside [0, {len(points)})")
+    # Angles are scale-invariant: each triangle's corners are scaled into (-1, 1) by a power of
+    # two (exact; the rule of core/normalization.h, per triangle), so neither the differences
+    # nor the cross and dot products overflow or underflow at 1e±300.
     corners = points[faces]
+    largest = np.abs(corners).max(axis=(1, 2)) if len(faces) else np.zeros(0)
+    corners = np.ldexp(corners, -np.frexp(largest)[1][:, None, None])
     angles = np.empty(faces.shape, dtype=float)
     for c in range(3):
         a = corners[:, (c + 1) % 3] - corners[:, c]

@@ -3,6 +3,7 @@
 /// The exceptions every meshsmith function throws; the Python bindings map them to
 /// meshsmith.InputError (a ValueError), meshsmith.SolverError (a RuntimeError) and
 /// meshsmith.Cancelled.
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -26,5 +27,13 @@ class Cancelled : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A number for an error message, with 6 significant digits in either notation ("1e-300",
+/// "0.25"), where std::to_string would print 1e-300 as "0.000000".
+inline std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
 
 }  // namespace meshsmith

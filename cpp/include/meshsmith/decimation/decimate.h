@@ -76,7 +76,9 @@ struct QemResult {
   /// working vertices: the input's, followed, when the input had to be split (non-manifold or
   /// inconsistently oriented, see split_vertex_origin), by the copies the split appended.
   std::vector<CollapseRecord> collapses;
-  double max_collapse_error = 0;  ///< largest cost of a performed collapse (units of the cost)
+  /// Largest cost of a performed collapse (units of the cost, input coordinates): +∞ when that
+  /// exceeds the double range (squared distances of a mesh of size 1e155 and beyond).
+  double max_collapse_error = 0;
   bool target_reached = false;    ///< target_faces reached (false: stopped by max_error or stuck)
   Eigen::Index collapse_count = 0;  ///< number of collapses performed
   /// Empty when the input was used as is. Otherwise the input vertex of each working vertex
@@ -95,7 +97,9 @@ struct QemResult {
 /// (QemOptions::parallel) the first 95% of the collapses, down to no fewer than 20,000 faces, run
 /// on four spatial parts at once, in rounds under a common cost ceiling, with the part borders
 /// shifted at each halving; a serial run does the rest. The result is deterministic and does not depend on the thread count.
-/// O(#F log #F) time, about 250 bytes per face of memory. Faces with a repeated vertex index are
+/// O(#F log #F) time, about 250 bytes per face of memory. Runs on normalized coordinates
+/// (core/normalization.h): coordinates from 1e-300 to 1e308 give the result of scale 1, scaled
+/// exactly (quadrics are of degree 4 and overflowed from 1e77). Faces with a repeated vertex index are
 /// dropped first; zero-area faces,
 /// duplicate vertices, several components and holes are fine. Non-manifold or inconsistently
 /// oriented input is split into manifold, oriented fans first (never torn further), and the

@@ -3,6 +3,7 @@
 /// k-nearest-neighbour and radius queries on 3D point sets (the neighbourhoods of §2.2 step 1,
 /// normal estimation). A kd-tree (nanoflann) is built once and queried many times; queries run
 /// in parallel (TBB) and their results do not depend on the thread count.
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
 
@@ -36,6 +37,12 @@ struct RadiusResult {
 
 /// A kd-tree over a copy of n points in 3D: build once (O(n log n)), query many times.
 ///
+/// The index is built on the points in normalized coordinates (core/normalization.h), so
+/// coordinates anywhere in the double range (1e-300 to 1e308) give the same neighbours as at
+/// scale 1, and distances are mapped back exactly. Coincident or nearly coincident points cost
+/// O(n log n) to build and O(log n + k) per query, like any others (a subtree is searched only
+/// if it may hold a point strictly closer than the current k-th).
+///
 /// Ties: points at exactly the same distance from a query come in an unspecified (but
 /// deterministic) order, so with ties the k-th neighbour may differ from another library's
 /// while the distances agree.
@@ -56,7 +63,8 @@ class KdTree {
   const VertexMatrix& points() const;
 
   /// For each row of Q (m×3), its k nearest tree points.
-  /// \throw InputError if Q holds a NaN/Inf, k < 1 or k > size().
+  /// \throw InputError if Q holds a NaN/Inf, k < 1 or k > size(), or a distance exceeds the
+  /// double range (a query near +1.8e308 and a point near −1.8e308).
   KnnResult query(const VertexRef& Q, int k, const Progress& progress = {}) const;
 
   /// For each tree point i, its k nearest *other* tree points: i itself is never listed (a
@@ -68,7 +76,13 @@ class KdTree {
   /// \throw InputError if Q holds a NaN/Inf or radius is not positive and finite.
   RadiusResult query_radius(const VertexRef& Q, double radius, const Progress& progress = {}) const;
 
+  /// The points in the tree's normalized frame (n×3, in (−1, 1)), and that frame.
+  const VertexMatrix& normalized_points() const;
+  const CoordinateFrame& frame() const;
+
   /// Single-query primitives for callers that run their own (parallel) loops; thread-safe.
+  /// They work in the tree's normalized frame: `query` is a normalized point (frame().
+  /// normalize_point), squared distances and radii are in normalized units.
   /// nearest: the min(k, size()) nearest points to `query` (3 doubles) into `indices` and
   /// `squared_distances` (room for k each), nearest first; returns how many were written.
   int nearest(const double* query, int k, std::uint32_t* indices, double* squared_distances) const;

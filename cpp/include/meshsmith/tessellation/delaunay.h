@@ -53,8 +53,9 @@ struct PlanarMesh {
 /// (Triangle's convention). Duplicate input points stay in V but are unreferenced.
 /// \pre segments index P; no zero-length segment.
 /// \throw InputError for NaN/Inf, an out-of-range or degenerate segment, fewer than 3 distinct
-///        points, all points collinear, points spanning less than 1e-100 of their magnitude, or
-///        a hole seed with NaN/Inf.
+///        points, all points collinear, points spanning less than 1e-100 of their magnitude, a
+///        hole seed with NaN/Inf, or two segments crossing so close to a vertex that double
+///        precision cannot place their intersection (the message names the vertex).
 PlanarMesh constrained_delaunay(const PointRef2& P, const SegmentRef& segments,
                                 const PointRef2& holes);
 
@@ -70,9 +71,11 @@ struct RefineOptions {
 /// diametral circles — with Shewchuk's cluster handling of small input angles). Guaranteed to
 /// terminate for min_angle ≤ 20.7°; works in practice up to about 33°. Triangles whose small
 /// angle is formed by two input segments meeting at an angle below 60° (or next to such a
-/// corner) may stay below the bound.
+/// corner) may stay below the bound: as in Triangle, a skinny triangle whose shortest edge joins
+/// the two segments of such a corner at equal distance from it is not split.
 /// \throw InputError as constrained_delaunay, or for min_angle outside (0, 35) or max_area < 0.
-/// \throw SolverError if more than max_steiner_points points would be inserted.
+/// \throw SolverError if more than max_steiner_points points would be inserted, or if 100,000
+///        refinement steps in a row insert nothing (features too small for double precision).
 PlanarMesh refine(const PointRef2& P, const SegmentRef& segments, const PointRef2& holes,
                   const RefineOptions& options, const Progress& progress = {});
 
