@@ -3,8 +3,9 @@ PYTHON ?= python3
 # Re-install only when a source or build file changed since the last install.
 SOURCES := $(shell find cpp python cmake -type f -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml scripts/bootstrap.sh
 STAMP := build/.installed-$(subst /,_,$(PYTHON))
+BENCH_STAMP := build/.installed-bench-$(subst /,_,$(PYTHON))
 
-.PHONY: setup demo test typecheck bench wheel sdist test-wheel clean
+.PHONY: setup demo test typecheck bench bench-quick wheel sdist test-wheel clean
 setup: $(STAMP)
 
 $(STAMP): $(SOURCES)
@@ -22,8 +23,12 @@ typecheck: setup
 	$(PYTHON) -m mypy python/meshsmith
 
 # Peers are installed only here (Open3D is large); `make bench CHAPTERS="io topology"` runs a subset.
-bench: setup
+# The bench install includes the test and viz extras, so it stands for `setup` too.
+$(BENCH_STAMP): $(SOURCES)
 	bash scripts/bootstrap.sh "$(PYTHON)" test,viz,bench
+	@mkdir -p build && touch $(STAMP) $@
+
+bench: $(BENCH_STAMP)
 	$(PYTHON) benchmarks/run_all.py $(CHAPTERS)
 
 # A manylinux wheel in dist/ with the Debian libraries it links copied in (auditwheel), built in
@@ -39,6 +44,11 @@ test-wheel: wheel
 # builds a wheel from it (cold, in a temporary directory).
 sdist:
 	bash scripts/build_sdist.sh "$(PYTHON)" $(SDIST_BUILD)
+
+# Every chapter on small inputs (a few minutes): a Markdown table of medians and ratios on stdout,
+# benchmarks/results/quick.json; exits non-zero when a benchmark crashes or a result check fails.
+bench-quick: $(BENCH_STAMP)
+	$(PYTHON) benchmarks/run_all.py --quick $(CHAPTERS)
 
 clean:
 	rm -rf build demo-output dist

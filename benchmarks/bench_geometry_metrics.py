@@ -1,10 +1,20 @@
 """Geometry metrics benchmarks: Hausdorff distance and point-to-mesh closest points against libigl,
 and parametrization distortion against a numpy reference.
 
-Input (distances): an icosphere with 7 subdivisions (327,680 faces, 163,842 vertices) and a noisy copy of it
-(vertices moved along their normals by 0.3 mean edge lengths): two different surfaces with the
-same connectivity, the typical "original vs processed" comparison. Input (distortion): a 400×400
-grid bent into a height field, parametrized by its stretched xy coordinates.
+Input (distances): an icosphere with 7 subdivisions (327,680 faces, 163,842 vertices; 5
+subdivisions, 20,480 faces, in quick mode) and a noisy copy of it (vertices moved along their
+normals by 0.3 mean edge lengths): two different surfaces with the same connectivity, the typical
+"original vs processed" comparison. Input (distortion): a 400×400 grid (200×200 in quick mode)
+bent into a height field, parametrized by its stretched xy coordinates.
+
+Same work: closest points are timed tree build + query on both sides, and then the query alone
+against a prebuilt tree on both sides; the two squared-distance calls of libigl also take the
+square root and the maximum, as a Hausdorff distance does.
+
+Result checks (tolerances): the Hausdorff distance within 1e-12 relative of libigl's; closest
+squared distances within 1e-12 of libigl's (absolute, on the unit sphere) and each closest point
+at its returned distance from the query (1e-12; at ties the two libraries may pick different
+points at the same distance); singular values within 1e-10 relative of numpy's SVD.
 """
 from __future__ import annotations
 
@@ -15,7 +25,7 @@ import igl
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Benchmark  # noqa: E402
+from harness import Benchmark, size  # noqa: E402
 
 from meshsmith import datasets  # noqa: E402
 from meshsmith.geometry import SurfaceDistance, hausdorff_distance, triangle_distortion  # noqa: E402
@@ -36,49 +46,62 @@ def numpy_distortion(V, F, UV):
 
 
 def main() -> None:
-    VA, FA = datasets.icosphere(7)
+    VA, FA = datasets.icosphere(size(7, 5))
     VB, FB = datasets.noisy(VA, FA, sigma=0.3, seed=1)
     print(f"A: {len(FA)} faces, B: {len(FB)} faces")
+    faces = f"{len(FA) // 1000}k"
 
-    ours, reference = hausdorff_distance(VA, FA, VB, FB), igl.hausdorff(VA, FA, VB, FB)
-    print(f"hausdorff: meshsmith {ours:.17g}, igl {reference:.17g}, relative difference "
-          f"{abs(ours - reference) / reference:.2e}")
-    bench = Benchmark("geometry_metrics", "hausdorff (vertex-sampled), 327k vs 327k faces", repeats=3)
+    def igl_two_sided():
+        return np.sqrt(max(igl.point_mesh_squared_distance(VA, VB, FB)[0].max(),
+                           igl.point_mesh_squared_distance(VB, VA, FA)[0].max()))
+
+    bench = Benchmark("geometry_metrics", f"hausdorff (vertex-sampled), {faces} vs {faces} faces", repeats=3)
     bench.time("meshsmith", lambda: hausdorff_distance(VA, FA, VB, FB))
     bench.time("igl.hausdorff", lambda: igl.hausdorff(VA, FA, VB, FB))
-    bench.time("igl.point_mesh_squared_distance x2",
-               lambda: (igl.point_mesh_squared_distance(VA, VB, FB), igl.point_mesh_squared_distance(VB, VA, FA)))
+    bench.time("igl.point_mesh_squared_distance x2, sqrt, max", igl_two_sided)
     bench.time("meshsmith sampled, 4/face", lambda: hausdorff_distance(VA, FA, VB, FB, sampled=True, samples_per_face=4))
     bench.report()
+    ours, reference = bench.output("meshsmith"), bench.output("igl.hausdorff")
+    bench.check("Hausdorff distance vs igl.hausdorff, relative", abs(ours - reference) / reference, 1e-12)
 
     Q = VB
     tree = SurfaceDistance(VA, FA)
-    distance, _, point = tree.closest_points(Q)
-    squared, _, igl_point = igl.point_mesh_squared_distance(Q, VA, FA)
-    print(f"closest points: max |d^2 - igl d^2| = {np.abs(distance**2 - squared).max():.2e}, "
-          f"max |C - igl C| = {np.abs(point - igl_point).max():.2e}")
-    bench = Benchmark("geometry_metrics", "closest points, 164k queries on 327k faces", repeats=3)
+    queries = f"{len(Q) // 1000}k queries on {faces} faces"
+    bench = Benchmark("geometry_metrics", f"closest points (tree build + query), {queries}", repeats=3)
     bench.time("meshsmith", lambda: SurfaceDistance(VA, FA).closest_points(Q))
-    bench.time("meshsmith query (prebuilt)", lambda: tree.closest_points(Q))
-    bench.time("meshsmith build", lambda: SurfaceDistance(VA, FA))
     bench.time("igl.point_mesh_squared_distance", lambda: igl.point_mesh_squared_distance(Q, VA, FA))
+    bench.time("meshsmith build alone", lambda: SurfaceDistance(VA, FA))
+    bench.report()
+    distance, _, point = bench.output("meshsmith")
+    squared, _, igl_point = bench.output("igl.point_mesh_squared_distance")
+    bench.check("closest squared distances vs libigl, max |difference|", np.abs(distance**2 - squared).max(), 1e-12)
+    # Where a query is equally far from two faces the two libraries may return different points:
+    # each point must lie at the returned distance, which must equal libigl's (checked above).
+    bench.check("closest points: max | |q - c| - distance |", np.abs(np.linalg.norm(Q - point, axis=1) - distance).max(),
+                1e-12)
+    ties = int((np.abs(point - igl_point).max(axis=1) > 1e-9).sum())
+    print(f"  closest points differing from libigl's (ties at equal distance): {ties} of {len(Q)}")
+
     igl_tree = igl.AABB()
     igl_tree.init(VA, FA)
-    bench.time("igl.AABB query (prebuilt)", lambda: igl_tree.squared_distance(VA, FA, Q))
+    bench = Benchmark("geometry_metrics", f"closest points, query of a prebuilt tree, {queries}", repeats=3)
+    bench.time("meshsmith", lambda: tree.closest_points(Q))
+    bench.time("igl.AABB squared_distance", lambda: igl_tree.squared_distance(VA, FA, Q))
     bench.report()
 
-    VG, FG = datasets.grid(400, 400)  # 320k faces, a height field over its own xy as parametrization
+    n = size(400, 200)
+    VG, FG = datasets.grid(n, n)  # a height field over its own xy as parametrization
     VG[:, 2] = 0.2 * np.sin(6 * VG[:, 0]) * np.cos(4 * VG[:, 1])
     UV = VG[:, :2] * [1.3, 0.8]
-    J, sigma = numpy_distortion(VG, FG, UV)
-    d = triangle_distortion(VG, FG, UV)
-    finite = np.isfinite(sigma).all(1)
-    print(f"distortion: max |sigma - numpy svd| / sigma = "
-          f"{(np.abs(d.singular_values - sigma)[finite] / sigma[finite].max(1, keepdims=True)).max():.2e}")
-    bench = Benchmark("geometry_metrics", "triangle_distortion, 320k faces", repeats=3)
+    bench = Benchmark("geometry_metrics", f"triangle_distortion, {len(FG) // 1000}k faces", repeats=3)
     bench.time("meshsmith", lambda: triangle_distortion(VG, FG, UV))
     bench.time("numpy Jacobians + SVD", lambda: numpy_distortion(VG, FG, UV))
     bench.report()
+    _, sigma = bench.output("numpy Jacobians + SVD")
+    d = bench.output("meshsmith")
+    finite = np.isfinite(sigma).all(1)
+    bench.check("singular values vs numpy SVD, max |difference| / sigma1",
+                (np.abs(d.singular_values - sigma)[finite] / sigma[finite].max(1, keepdims=True)).max(), 1e-10)
 
 
 if __name__ == "__main__":

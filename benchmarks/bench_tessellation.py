@@ -2,7 +2,15 @@
 refinement against Triangle (time and Steiner point counts on the same input and angle bound).
 
 Peers: scipy.spatial.Delaunay (Qhull), `triangle` (PyPI wrapper of Shewchuk's Triangle; absent
-peers are reported as failures, not fatal).
+peers are reported as missing). Sizes: 1M points for Delaunay, a 20k-edge polygon with 200k
+points for constrained Delaunay (50k and 3k + 30k in quick mode).
+
+Result checks (tolerance 0 unless stated): the Delaunay triangles (as vertex sets) equal
+Triangle's (random points are in general position, so the triangulation is unique, and both
+decide with exact predicates), and differ from scipy's (Qhull, floating point) at most at a
+share of 1e-5 of them; the constrained Delaunay triangles equal Triangle's; refinement meets
+the angle bound (down to 1e-9 degrees; at a smaller input angle, that angle) on every domain of
+the Steiner table and covers the same area as Triangle's mesh (1e-12 relative).
 """
 from __future__ import annotations
 
@@ -13,14 +21,16 @@ import numpy as np
 from scipy.spatial import Delaunay as ScipyDelaunay
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Benchmark  # noqa: E402
+from harness import Benchmark, check, differing_simplices, optional, relative_difference, size  # noqa: E402
 
 from meshsmith.tessellation import constrained_delaunay, delaunay, refine  # noqa: E402
 
-try:
-    import triangle
-except Exception:  # optional peer: `pip install triangle`
-    triangle = None
+triangle = optional("triangle")  # Shewchuk's Triangle
+
+
+def total_area(V, F) -> float:
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    return float(0.5 * np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])).sum())
 
 
 def refinement_domains() -> dict:
@@ -64,6 +74,9 @@ def steiner_comparison() -> None:
         for bound, max_area in ((20.7, None), (30.0, None), (33.0, None), (30.0, 0.01)):
             V, F, steiner = refine(P, segments, holes, min_angle=bound, max_area=max_area)
             ours = f"{steiner:14d} {minimum_angle(V, F):10.2f}"
+            # Angles below the bound at the input are left alone (the wedge keeps its 5 degrees).
+            smallest_input = 5.0 if name == "5-degree wedge" else 90.0
+            wanted = min(bound, smallest_input)
             if triangle is not None:
                 result = triangle_refine(P, segments, holes, bound, max_area)
                 theirs = (f"{len(result['vertices']) - len(P):13d} "
@@ -72,40 +85,62 @@ def steiner_comparison() -> None:
                 theirs = "   (triangle not installed)"
             label = name + (f", area<={max_area}" if max_area else "")
             print(f"{label:36s} {bound:6.1f} {ours} {theirs}")
+            check("tessellation", "Steiner points and minimum angle", f"{label}, bound {bound}: degrees below "
+                  f"min(bound, smallest input angle)", max(0.0, wanted - minimum_angle(V, F)), 1e-9)
 
 
 def main() -> None:
     rng = np.random.default_rng(0)
-    P = rng.random((1_000_000, 2))
-    bench = Benchmark("tessellation", "2D Delaunay, 1M uniform random points", repeats=3)
+    n = size(1_000_000, 50_000)
+    P = rng.random((n, 2))
+    bench = Benchmark("tessellation", f"2D Delaunay, {n:,} uniform random points", repeats=3)
     bench.time("meshsmith", lambda: delaunay(P))
     bench.time("scipy.spatial.Delaunay", lambda: ScipyDelaunay(P))
     if triangle is not None:
         bench.time("triangle", lambda: triangle.triangulate({"vertices": P}, "Q"))
     bench.report()
+    F = bench.output("meshsmith")[0]
+    # Qhull decides in floating point, so it may flip a nearly cocircular pair (4 of 2M triangles at
+    # 1M points, measured); Triangle and meshsmith use exact predicates and must agree exactly.
+    bench.check("share of Delaunay triangles differing from scipy's (Qhull, inexact)",
+                differing_simplices(F, bench.output("scipy.spatial.Delaunay").simplices) / len(F), 1e-5)
+    if triangle is not None:
+        bench.check("Delaunay triangles differing from Triangle's",
+                    differing_simplices(F, bench.output("triangle")["triangles"]), 0)
 
     # Constrained Delaunay: a polygon with many edges (a wavy circle) plus interior points.
-    k = 20_000
-    angles = np.linspace(0, 2 * np.pi, k, endpoint=False)
+    k, m = size(20_000, 3_000), size(200_000, 30_000)
+    # Jittered angles: the evenly spaced samples of this symmetric curve hold cocircular quadruples,
+    # whose two triangulations are both Delaunay, and the check compares triangles one to one.
+    angles = (np.arange(k) + rng.uniform(-0.25, 0.25, k)) * (2 * np.pi / k)
     radius = 1 + 0.1 * np.sin(17 * angles)
     boundary = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
-    interior = rng.uniform(-0.8, 0.8, size=(200_000, 2)) * 0.85
+    interior = rng.uniform(-0.8, 0.8, size=(m, 2)) * 0.85
     points = np.vstack([boundary, interior])
     segments = np.column_stack([np.arange(k), (np.arange(k) + 1) % k])
-    bench = Benchmark("tessellation", "constrained Delaunay, 20k-edge polygon + 200k points",
+    bench = Benchmark("tessellation", f"constrained Delaunay, {k // 1000}k-edge polygon + {m // 1000}k points",
                       repeats=3)
     bench.time("meshsmith", lambda: constrained_delaunay(points, segments))
     if triangle is not None:
-        bench.time("triangle", lambda: triangle.triangulate(
-            {"vertices": points, "segments": segments}, "pQ"))
+        bench.time("triangle", lambda: triangle.triangulate({"vertices": points, "segments": segments}, "pQ"))
     bench.report()
+    if triangle is not None:
+        bench.check("constrained Delaunay triangles differing from Triangle's",
+                    differing_simplices(bench.output("meshsmith")[1], bench.output("triangle")["triangles"]), 0)
 
     P_e, segments_e, _ = refinement_domains()["letter E"]
-    bench = Benchmark("tessellation", "refine letter E, min angle 30, max area 1e-4", repeats=3)
-    bench.time("meshsmith", lambda: refine(P_e, segments_e, min_angle=30.0, max_area=1e-4))
+    max_area = size(1e-4, 1e-3)
+    bench = Benchmark("tessellation", f"refine letter E, min angle 30, max area {max_area:g}", repeats=3)
+    bench.time("meshsmith", lambda: refine(P_e, segments_e, min_angle=30.0, max_area=max_area))
     if triangle is not None:
-        bench.time("triangle", lambda: triangle_refine(P_e, segments_e, None, 30.0, 1e-4))
+        bench.time("triangle", lambda: triangle_refine(P_e, segments_e, None, 30.0, max_area))
     bench.report()
+    V, F, _ = bench.output("meshsmith")
+    bench.check("refinement: degrees below the 30-degree bound", max(0.0, 30.0 - minimum_angle(V, F)), 1e-9)
+    if triangle is not None:
+        theirs = bench.output("triangle")
+        bench.check("refinement: area vs Triangle's mesh, relative",
+                    relative_difference(total_area(V, F), total_area(theirs["vertices"], theirs["triangles"])), 1e-12)
 
     steiner_comparison()
 

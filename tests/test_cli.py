@@ -6,7 +6,7 @@ import sys
 import numpy as np
 import pytest
 
-from meshsmith import cli, datasets, io
+from meshsmith import cli, datasets, geometry, io
 
 
 def run(*args):
@@ -57,6 +57,50 @@ def test_convert_keeps_the_mesh(sphere_file, tmp_path, suffix):
     tolerance = 1e-6 if suffix == ".stl" else 0.0        # STL stores float32
     assert np.allclose(np.sort(V1[F1].reshape(-1, 9), axis=0), np.sort(V0[F0].reshape(-1, 9), axis=0),
                        atol=tolerance, rtol=0)
+
+
+def test_convert_keeps_uvs_colours_and_polygons(tmp_path, data_dir):
+    spot = data_dir / "spot.obj"
+    if not spot.is_file():
+        pytest.skip("spot.obj is not in the shared data")
+    source = io.read_mesh(spot, return_attributes=True)
+    for suffix in (".obj", ".ply", ".glb"):
+        out = tmp_path / f"spot{suffix}"
+        result = run("convert", spot, out)
+        assert result.returncode == 0, result.stderr
+        assert "with UV" in result.stdout
+        back = io.read_mesh(out, return_attributes=True)
+        np.testing.assert_allclose(back.UV[back.F_uv], source.UV[source.F_uv], rtol=0,
+                                   atol=6e-8 if suffix == ".glb" else 0)
+    assert (tmp_path / "spot.obj").read_text().count("\nvt ") == 3225
+    # Quads and per-vertex colours through PLY → OFF → OBJ.
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    colors = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], float)
+    io.write_mesh(tmp_path / "q.ply", V, io.Polygons.from_list([[0, 1, 2, 3]]), colors=colors)
+    assert run("convert", tmp_path / "q.ply", tmp_path / "q.off").returncode == 0
+    assert run("convert", tmp_path / "q.off", tmp_path / "q.obj").returncode == 0
+    back = io.read_mesh(tmp_path / "q.obj", triangulate=False, return_attributes=True)
+    assert back.F.to_list() == [[0, 1, 2, 3]]
+    np.testing.assert_array_equal(back.colors, colors)
+
+
+def test_convert_refuses_to_drop_an_attribute_silently(tmp_path):
+    V, F = datasets.icosphere(1)
+    io.write_mesh(tmp_path / "uv.obj", V, F, UV=V[:, :2])
+    result = run("convert", tmp_path / "uv.obj", tmp_path / "uv.stl")
+    assert result.returncode == 1 and not (tmp_path / "uv.stl").exists()
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "cannot write UV" in result.stderr and "write OBJ, PLY, OFF or GLB" in result.stderr
+    assert "--drop uv" in result.stderr
+    result = run("convert", tmp_path / "uv.obj", tmp_path / "uv.stl", "--drop", "uv")
+    assert result.returncode == 0, result.stderr
+    assert "dropped uv" in result.stdout
+    np.testing.assert_allclose(io.read_mesh(tmp_path / "uv.stl")[0][io.read_mesh(tmp_path / "uv.stl")[1]],
+                               V.astype(np.float32)[F], atol=0)
+    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nfoo 1\nfoo 2\n")
+    result = run("convert", tmp_path / "odd.obj", tmp_path / "odd.ply")
+    assert result.returncode == 0
+    assert result.stderr.strip() == f"meshsmith: warning: {tmp_path / 'odd.obj'}: skipped 2 unknown 'foo' statements"
 
 
 def test_render_writes_a_png_of_the_requested_size(sphere_file, tmp_path):
@@ -144,10 +188,11 @@ def test_normals_rejects_too_few_points(tmp_path):
     assert result.returncode == 1 and result.stderr.startswith("meshsmith: error:")
 
 
-@pytest.mark.parametrize("kind, expected", [("mean", 1.0), ("gaussian", 1.0), ("k1", 1.0), ("k2", 1.0)])
-def test_curvature_values_of_a_unit_sphere(sphere_file, tmp_path, kind, expected):
+@pytest.mark.parametrize("kind, flags, expected", [("mean", [], 1.0), ("gaussian", ["--pointwise"], 1.0),
+                                                  ("gaussian", [], 4 * np.pi / 162), ("k1", [], 1.0), ("k2", [], 1.0)])
+def test_curvature_values_of_a_unit_sphere(sphere_file, tmp_path, kind, flags, expected):
     out = tmp_path / f"{kind}.npy"
-    result = run("curvature", sphere_file, "--kind", kind, "-o", out)
+    result = run("curvature", sphere_file, "--kind", kind, *flags, "-o", out)
     assert result.returncode == 0, result.stderr
     values = np.load(out)
     # 162 vertices: the quadric fit of k1, k2 is within 9% here (it converges at order 2, see
@@ -155,13 +200,35 @@ def test_curvature_values_of_a_unit_sphere(sphere_file, tmp_path, kind, expected
     assert values.shape == (162,) and np.median(values) == pytest.approx(expected, rel=0.1)
 
 
+@pytest.mark.parametrize("kind, flags, api", [
+    ("mean", [], lambda V, F: geometry.mean_curvature(V, F).H),
+    ("gaussian", [], lambda V, F: geometry.gaussian_curvature(V, F)),
+    ("gaussian", ["--pointwise"], lambda V, F: geometry.gaussian_curvature(V, F, pointwise=True)),
+    ("k1", [], lambda V, F: geometry.principal_curvatures(V, F).k1),
+    ("k2", [], lambda V, F: geometry.principal_curvatures(V, F).k2)])
+def test_curvature_command_gives_the_api_default(sphere_file, tmp_path, kind, flags, api):
+    # The CLI and the API give the same quantity: the .npy holds exactly what the function returns
+    # (on a closed mesh the integrated Gaussian curvature sums to 2 pi chi = 4 pi, Gauss-Bonnet).
+    V, F = io.read_mesh(sphere_file)
+    out = tmp_path / "values.npy"
+    assert run("curvature", sphere_file, "--kind", kind, *flags, "-o", out).returncode == 0
+    np.testing.assert_array_equal(np.load(out), api(V, F))
+    if kind == "gaussian" and not flags:
+        assert np.load(out).sum() == pytest.approx(4 * np.pi, abs=1e-9)
+
+
+def test_curvature_pointwise_is_for_gaussian_only(sphere_file, tmp_path):
+    result = run("curvature", sphere_file, "--kind", "mean", "--pointwise", "-o", tmp_path / "h.npy")
+    assert result.returncode == 2 and "--pointwise" in result.stderr   # a flag combination: usage
+
+
 def test_curvature_picture_and_bad_output(sphere_file, tmp_path):
     from PIL import Image
     assert run("curvature", sphere_file, "-o", tmp_path / "h.png", "--width", "300", "--height", "200").returncode == 0
     with Image.open(tmp_path / "h.png") as image:
         assert image.size == (300, 200)
-    result = run("curvature", sphere_file, "-o", tmp_path / "h.txt")
-    assert result.returncode == 1 and ".png" in result.stderr
+    result = run("curvature", sphere_file, "-o", tmp_path / "h.txt")   # checked before any work: usage
+    assert result.returncode == 2 and ".png" in result.stderr
 
 
 SQUARE_WITH_HOLE = """# unit square with a square hole (Triangle's .poly format, ids from 1)

@@ -83,7 +83,7 @@ def test_ellipse_curvature_everywhere_is_second_order():
         P = np.stack([a * np.cos(t), b * np.sin(t)], axis=1)
         truth = a * b / (a**2 * np.sin(t) ** 2 + b**2 * np.cos(t) ** 2) ** 1.5
         for method in METHODS:
-            errors[method].append(np.abs(mc.curvature(P, True, method) - truth).max())
+            errors[method].append(np.abs(mc.curvature(P, closed=True, method=method) - truth).max())
     for method in METHODS:
         assert np.all(observed_orders(errors[method])[1:] > 1.9), (method, errors[method])
 
@@ -101,7 +101,7 @@ def test_irregular_samples_converge_at_first_order():
         P = np.stack([a * np.cos(t), b * np.sin(t)], axis=1)
         truth = a * b / (a**2 * np.sin(t) ** 2 + b**2 * np.cos(t) ** 2) ** 1.5
         for method in METHODS:
-            errors[method].append(np.abs(mc.curvature(P, True, method) - truth).max())
+            errors[method].append(np.abs(mc.curvature(P, closed=True, method=method) - truth).max())
     for method in METHODS:
         assert fitted_order(errors[method], sizes) > 0.8, (method, errors[method])
         assert errors[method][-1] < 0.02

@@ -188,7 +188,7 @@ def curved_disk():
     ("harmonic mean value", lambda V, F: meshsmith.parametrization.harmonic(V, F, weights="mean_value"), 0),
     ("lscm", lambda V, F: meshsmith.parametrization.lscm(V, F), 1),
     ("lscm spectral", lambda V, F: meshsmith.parametrization.lscm_spectral(V, F), 1),
-    ("stretch", lambda V, F: meshsmith.parametrization.stretch_minimizing(V, F, 3).uv, 0),
+    ("stretch", lambda V, F: meshsmith.parametrization.stretch_minimizing(V, F, iterations=3).uv, 0),
     ("abf++", lambda V, F: meshsmith.parametrization.abf(V, F).uv, 1),
     ("map_boundary", lambda V, F: meshsmith.parametrization.map_boundary(V, F)[1], 0),
 ])
@@ -362,7 +362,7 @@ def test_curvature_of_a_denormal_curve_says_it_overflows():
 @pytest.mark.parametrize("name, call, power", [
     ("face normals", lambda V, F: meshsmith.geometry.face_normals(V, F), 0),
     ("angle normals", lambda V, F: meshsmith.geometry.vertex_normals(V, F), 0),
-    ("area normals", lambda V, F: meshsmith.geometry.vertex_normals(V, F, "area"), 0),
+    ("area normals", lambda V, F: meshsmith.geometry.vertex_normals(V, F, weighting="area"), 0),
     ("cotan Laplacian", lambda V, F: meshsmith.geometry.cotan_laplacian(V, F).toarray(), 0),
     ("mean value Laplacian", lambda V, F: meshsmith.geometry.mean_value_laplacian(V, F).toarray(), -1),
     ("gaussian curvature", lambda V, F: meshsmith.geometry.gaussian_curvature(V, F), 0),

@@ -88,7 +88,7 @@ def test_face_normals_match_libigl(shared_mesh):
 ])
 def test_vertex_normals_match_libigl(shared_mesh, weighting, igl_type):
     _, V, F = shared_mesh
-    N = geometry.vertex_normals(V, F, weighting)
+    N = geometry.vertex_normals(V, F, weighting=weighting)
     assert N.shape == V.shape
     assert np.abs(N - igl.per_vertex_normals(V, F, igl_type)).max() <= 1e-10
     np.testing.assert_allclose(np.linalg.norm(N, axis=1), 1.0, atol=1e-12)
@@ -111,12 +111,12 @@ def test_cotan_laplacian_matches_libigl(shared_mesh):
     ("voronoi", igl.MASSMATRIX_TYPE_VORONOI), ("barycentric", igl.MASSMATRIX_TYPE_BARYCENTRIC)])
 def test_mass_matrix_matches_libigl(shared_mesh, kind, igl_type):
     _, V, F = shared_mesh
-    M = geometry.mass_matrix(V, F, kind)
+    M = geometry.mass_matrix(V, F, kind=kind)
     assert isinstance(M, scipy.sparse.csc_matrix) and M.shape == (len(V), len(V))
     assert relative_sparse_difference(M, igl.massmatrix(V, F, igl_type)) <= 1e-10
     area = 0.5 * igl.doublearea(V, F).sum()
     assert M.diagonal().sum() == pytest.approx(area, rel=1e-12)
-    np.testing.assert_array_equal(geometry.vertex_areas(V, F, kind), M.diagonal())
+    np.testing.assert_array_equal(geometry.vertex_areas(V, F, kind=kind), M.diagonal())
 
 
 def test_gaussian_curvature_matches_libigl(shared_mesh):
@@ -322,11 +322,11 @@ def test_degenerate_faces_and_isolated_vertices_give_finite_results():
     fn = geometry.face_normals(V, F)
     np.testing.assert_array_equal(fn[-2:], 0.0)
     for weighting in ("uniform", "area", "angle"):
-        N = geometry.vertex_normals(V, F, weighting)
+        N = geometry.vertex_normals(V, F, weighting=weighting)
         assert np.isfinite(N).all()
         np.testing.assert_array_equal(N[isolated], 0.0)
     for matrix in (geometry.cotan_laplacian(V, F), geometry.mean_value_laplacian(V, F),
-                   geometry.mass_matrix(V, F), geometry.mass_matrix(V, F, "barycentric")):
+                   geometry.mass_matrix(V, F), geometry.mass_matrix(V, F, kind="barycentric")):
         assert np.isfinite(matrix.data).all()
         assert matrix[isolated, isolated] == 0
     H, Hn = geometry.mean_curvature(V, F)
@@ -367,8 +367,8 @@ def test_bad_input_raises_input_error(function, V, F, message):
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: geometry.vertex_normals(TETRA_V, TETRA_F, "length"), "weighting = 'length'"),
-    (lambda: geometry.mass_matrix(TETRA_V, TETRA_F, "full"), "kind = 'full'"),
+    (lambda: geometry.vertex_normals(TETRA_V, TETRA_F, weighting="length"), "weighting = 'length'"),
+    (lambda: geometry.mass_matrix(TETRA_V, TETRA_F, kind="full"), "kind = 'full'"),
     (lambda: geometry.gaussian_curvature(TETRA_V, TETRA_F, boundary="none"), "boundary = 'none'"),
     (lambda: geometry.principal_curvatures(TETRA_V, TETRA_F, method="x"), "method = 'x'"),
     (lambda: geometry.laplacian_eigenpairs(TETRA_V, TETRA_F, 4), "expected 1 <= k < #V = 4"),

@@ -241,7 +241,7 @@ def test_closest_points_agree_with_libigl(data_dir):
     assert on_reported_face(V, F, face, point, 1e-9 * scale)
     np.testing.assert_array_equal(tree.distances(Q), distance)
     for leaf_size in (1, 16):  # the tree shape changes, the distances do not
-        np.testing.assert_allclose(SurfaceDistance(V, F, leaf_size).distances(Q), distance, rtol=0, atol=1e-14 * scale)
+        np.testing.assert_allclose(SurfaceDistance(V, F, leaf_size=leaf_size).distances(Q), distance, rtol=0, atol=1e-14 * scale)
 
 
 def test_closest_points_analytic_and_empty():

@@ -46,10 +46,10 @@ def test_parametrize_disk_writes_the_library_map(disk_file, tmp_path, method, ca
     assert cli.main(["parametrize", str(disk_file), "--method", method, "-o", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "angle distortion" in printed and "bijective                                True" in printed
-    mesh = io.read_mesh_with_attributes(out)
+    mesh = io.read_mesh(out, return_attributes=True)
     V, F = io.read_mesh(disk_file)
     np.testing.assert_array_equal(mesh.F, F)
-    expected = P.parametrize(V, F, method).uv
+    expected = P.parametrize(V, F, method=method).uv
     np.testing.assert_allclose(mesh.UV[mesh.F_uv], expected[F], atol=1e-12)
 
 
@@ -58,7 +58,7 @@ def test_parametrize_closed_mesh_is_cut_and_pictured(torus_file, tmp_path):
     result = run("parametrize", torus_file, "--method", "lscm", "-o", out, "--picture", picture)
     assert result.returncode == 0, result.stderr
     assert "seam edges" in result.stdout
-    mesh = io.read_mesh_with_attributes(out)
+    mesh = io.read_mesh(out, return_attributes=True)
     V, F = io.read_mesh(torus_file)
     assert len(mesh.V) == len(V) and len(mesh.UV) > len(V)  # seam vertices have two texture coordinates
     # the texture coordinates are one-to-one on the cut mesh

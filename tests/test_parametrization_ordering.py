@@ -43,7 +43,7 @@ def test_harmonic_on_a_large_bumpy_disk_matches_libigl_and_superlu():
     # the order is deterministic, so is the result, bit for bit
     assert np.array_equal(UV, P.harmonic(V, F, weights="cotan"))
     UV = P.harmonic(V, F, weights="uniform", shape="square")
-    b, buv = P.map_boundary(V, F, "square")
+    b, buv = P.map_boundary(V, F, shape="square")
     np.testing.assert_allclose(UV, _reference_harmonic(geometry.uniform_laplacian(F, len(V)), b, buv), atol=1e-10)
 
 

@@ -85,7 +85,7 @@ def test_transparent_background_gives_coverage_alpha(sphere):
 def test_orthographic_sphere_silhouette_matches_the_analytic_disc(sphere):
     V, F = sphere
     width, height = 400, 300
-    camera = R.frame_camera(V, "front", size=(width, height), orthographic=True)
+    camera = R.frame_camera(V, view="front", size=(width, height), orthographic=True)
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent")
     coverage = image[..., 3].astype(float).sum() / 255.0
     pixels_per_unit = height / camera.ortho_height
@@ -96,7 +96,7 @@ def test_orthographic_sphere_silhouette_matches_the_analytic_disc(sphere):
 def test_perspective_sphere_silhouette_is_a_centred_disc_of_the_analytic_size(sphere):
     V, F = sphere
     width, height = 400, 300
-    camera = R.frame_camera(V, "front", size=(width, height))
+    camera = R.frame_camera(V, view="front", size=(width, height))
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent")
     alpha = image[..., 3].astype(float) / 255.0
     distance = np.linalg.norm(np.subtract(camera.eye, camera.target))
@@ -145,8 +145,8 @@ def test_scalar_equal_to_x_runs_monotonically_along_the_colormap_left_to_right()
     V, F = grid(20)
     table = (R.colormap("viridis", 256) * 255.0)
     image = R.render(V, F, size=(300, 300), view="front", projection="orthographic",
-                     scalar=V[:, 0], scalar_range=(-1.0, 1.0), lighting=False, colorbar=False,
-                     background="white")
+                     scalar=V[:, 0], scalar_range=(-1.0, 1.0), cmap="viridis", lighting=False,
+                     colorbar=False, background="white")
     row = image[150, :, :3].astype(float)
     inside = np.nonzero(np.any(image[150] != 255, axis=1))[0][3:-3]
     distances = ((row[inside, None, :] - table[None, :, :]) ** 2).sum(axis=2)
@@ -192,7 +192,7 @@ def test_colormap_tables_have_the_published_end_colours():
 
 def test_colorbar_is_drawn_inside_the_requested_size(sphere):
     V, F = sphere
-    with_bar = R.render(V, F, size=(400, 300), scalar=V[:, 1], scalar_label="height",
+    with_bar = R.render(V, F, size=(400, 300), scalar=V[:, 1], scalar_label="height", cmap="viridis",
                         background="white")
     without = R.render(V, F, size=(400, 300), scalar=V[:, 1], colorbar=False, background="white")
     assert with_bar.shape == without.shape == (300, 400, 3)
@@ -343,7 +343,7 @@ def test_uv_layout_shows_flipped_triangles_in_the_warm_tint(tmp_path):
     (dict(background="not-a-colour"), "unknown background colour"),
     (dict(scalar_range=(2.0, 1.0), scalar="ok"), "low <= high"),
     (dict(supersample=9), "supersample"),
-    (dict(up="x"), "up axis"),
+    (dict(up="w"), "up axis"),
     (dict(wireframe="yes"), "wireframe"),
     (dict(checker_size=-1.0, uv="ok"), "checker_size"),
 ])
@@ -490,13 +490,16 @@ def test_degenerate_cameras_are_rejected(sphere):
     ("front", 2, +1, "y"), ("back", 2, -1, "y"), ("right", 0, +1, "y"), ("left", 0, -1, "y"),
     ("top", 1, +1, "y"), ("bottom", 1, -1, "y"),
     ("front", 1, -1, "z"), ("right", 0, +1, "z"), ("top", 2, +1, "z"),
+    ("front", 2, +1, "x"), ("right", 1, -1, "x"), ("top", 0, +1, "x"),
+    ("front", 2, +1, "-x"), ("top", 0, -1, "-x"), ("front", 2, +1, "-y"), ("top", 1, -1, "-y"),
+    ("right", 0, -1, "-y"), ("front", 1, -1, "-z"), ("top", 2, -1, "-z"), ("right", 0, -1, "-z"),
 ])
 def test_named_views_look_from_the_documented_side(sphere, view, axis, sign, up):
     V, F = sphere
     # Colour by the coordinate along the axis the view should look from: the nearest point of
     # the sphere (the image centre) must take the colormap's top colour.
     image = R.render(V, F, size=(120, 90), view=view, up=up, scalar=sign * V[:, axis],
-                     scalar_range=(-1, 1), lighting=False, colorbar=False)
+                     scalar_range=(-1, 1), cmap="viridis", lighting=False, colorbar=False)
     top_colour = R.colormap("viridis", 2)[-1] * 255
     assert np.abs(image[45, 60].astype(float) - top_colour).max() < 12
 
@@ -505,7 +508,7 @@ def test_silhouette_bounding_box_matches_an_independent_projection():
     V, F = icosphere(3)
     V = V * np.array([1.5, 0.7, 1.0]) + 0.2 * np.sin(3 * V[:, [1, 2, 0]])  # a lumpy blob
     width, height = 320, 240
-    camera = R.frame_camera(V, (30, 20), size=(width, height))
+    camera = R.frame_camera(V, view=(30, 20), size=(width, height))
     image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
                      supersample=4)
     forward = np.subtract(camera.target, camera.eye)
@@ -540,7 +543,7 @@ def test_thicker_wireframe_lines_cover_more_pixels():
 def test_no_cracks_between_adjacent_triangles():
     V, F = icosphere(5)  # 20480 small triangles sharing edges
     width, height = 300, 300
-    camera = R.frame_camera(V, (17.0, 11.0), size=(width, height), orthographic=True)
+    camera = R.frame_camera(V, view=(17.0, 11.0), size=(width, height), orthographic=True)
     for supersample in (1, 2):
         image = R.render(V, F, size=(width, height), camera=camera, background="transparent",
                          supersample=supersample)
@@ -576,3 +579,60 @@ def test_crease_angle_leaves_smooth_surfaces_smooth():
     V, F = icosphere(3)  # neighbouring faces differ by ~ 7 degrees
     assert np.array_equal(R.render(V, F, size=(160, 120)),
                           R.render(V, F, size=(160, 120), crease_angle=180))
+
+
+# ---- colour maps and overflow arrows (issue 14: pictures mislead) ----------------------------------
+
+def _bar_strip(image, layout):
+    """The columns of the colour bar, above the bar (top arrow) and below it (bottom arrow)."""
+    columns = slice(layout.x, layout.x + layout.thickness)
+    above = image[layout.y - 2 - layout.arrow:layout.y - 2, columns, :3].astype(float)
+    below = image[layout.y + layout.height + 2:layout.y + layout.height + 2 + layout.arrow, columns, :3].astype(float)
+    return above, below
+
+
+def _holds(region, colour, tolerance=20.0):
+    return int((np.abs(region - np.asarray(colour, dtype=float)).max(axis=-1) < tolerance).sum())
+
+
+@pytest.mark.parametrize("scalar_range, top, bottom", [
+    ((-1.0, 1.0), False, False), ((-0.5, 1.0), False, True), ((-1.0, 0.5), True, False), ((-0.5, 0.5), True, True),
+])
+def test_overflow_arrows_show_exactly_the_clipped_ends(sphere, scalar_range, top, bottom):
+    V, F = sphere
+    size = (400, 300)
+    image = R.render(V, F, size=size, scalar=V[:, 1], scalar_range=scalar_range, cmap="viridis",
+                     background="white")
+    layout = R._colorbar_layout(size[0], size[1], max(64, round(0.14 * size[0])), 0)
+    above, below = _bar_strip(image, layout)
+    table = R.colormap("viridis", 256) * 255
+    # An arrow is a triangle in the end colour: many pixels of that colour; no arrow, none at all.
+    assert (_holds(above, table[-1]) > layout.thickness) == top
+    assert (_holds(below, table[0]) > layout.thickness) == bottom
+    assert np.all(above == 255) != top and np.all(below == 255) != bottom
+    assert R.clipped_ends(V[:, 1], *scalar_range) == (bottom, top)
+
+
+def test_default_colormap_is_sequential_for_one_sign_and_diverging_about_zero_otherwise(sphere):
+    V, F = sphere
+    assert R.default_colormap(V[:, 1] + 2.0) == "viridis" and R.default_colormap(V[:, 1]) == "coolwarm"
+    assert R.default_colormap(-V[:, 1] - 2.0) == "viridis" and R.default_colormap(np.zeros(5)) == "viridis"
+    size = (400, 300)
+    layout = R._colorbar_layout(size[0], size[1], max(64, round(0.14 * size[0])), 0)
+    columns = slice(layout.x + 2, layout.x + layout.thickness - 2)
+    for values, name in ((V[:, 1] + 2.0, "viridis"), (V[:, 1], "coolwarm")):
+        image = R.render(V, F, size=size, scalar=values, background="white")
+        bar = image[layout.y + 1:layout.y + layout.height - 1, columns, :3].astype(float).mean(axis=1)
+        table = R.colormap(name, len(bar))[::-1] * 255
+        assert np.abs(bar - table).max() < 6, name                # the bar is drawn in that map
+        on_mesh = image[100:200, 100:250, :3].reshape(-1, 3).astype(float)
+        nearest = ((on_mesh[:, None, :] - R.colormap(name, 64)[None] * 255) ** 2).sum(axis=2).min(axis=1)
+        assert np.median(nearest) < 2000, name                   # and so is the surface (lit)
+    # Two-signed data: the range is symmetric, so 0 is the neutral middle colour.
+    low, high = R.scalar_range(V[:, 1] + 0.3, len(V))
+    assert low == -high
+
+
+def test_save_png_refuses_other_extensions(tmp_path):
+    with pytest.raises(meshsmith.InputError, match=r"\.png"):
+        R.save_png(np.zeros((4, 4, 3), dtype=np.uint8), tmp_path / "x.jpg")

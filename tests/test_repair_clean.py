@@ -145,12 +145,12 @@ def test_merge_tolerance_joins_near_vertices_transitively():
     assert_clean(V2, F2, report, V_in, F_in, merge_tolerance=1e-6)
     assert repair.clean(V_in, F_in).report.merged_vertices == 0     # exact merging finds none
 
-    group, representatives = repair.merge_close_vertices([[0.0, 0, 0], [0.6, 0, 0], [1.2, 0, 0], [5, 0, 0]], 0.7)
+    group, representatives = repair.merge_close_vertices([[0.0, 0, 0], [0.6, 0, 0], [1.2, 0, 0], [5, 0, 0]], tolerance=0.7)
     np.testing.assert_array_equal(group, [0, 0, 0, 1])             # a chain is one group
     np.testing.assert_array_equal(representatives, [0, 3])
     group, _ = repair.merge_close_vertices([[1.0, 0, 0], [0.0, 0, 0], [-0.0, 0, 0], [1.0, 0, 1e-300]])
     np.testing.assert_array_equal(group, [0, 1, 1, 2])             # -0.0 == 0.0; 1e-300 is not 0
-    group, _ = repair.merge_close_vertices([[0.0, 0, 0], [1.0, 0, 0]], 1.0)
+    group, _ = repair.merge_close_vertices([[0.0, 0, 0], [1.0, 0, 0]], tolerance=1.0)
     np.testing.assert_array_equal(group, [0, 0])                   # at exactly the tolerance: merged
     for bad in (-1.0, np.nan, np.inf):
         with pytest.raises(meshsmith.InputError, match="merge tolerance"):
@@ -393,7 +393,7 @@ def test_parametrize_charts_every_component_side_by_side():
     Vd, Fd = datasets.disk(5, 20)
     V_in = np.vstack([[[7.0, 7, 7]], V, Vd + [3.0, 0, 0]])
     F_in = np.vstack([F + 1, Fd + 1 + len(V)])
-    result = parametrization.parametrize(V_in, F_in, "tutte")
+    result = parametrization.parametrize(V_in, F_in, method="tutte")
     assert np.isnan(result.uv[0]).all() and np.isfinite(result.uv[1:]).all()
     assert result.bijective and result.cut is not None and len(result.uv) == len(result.V)
     sphere_u = result.uv[np.unique(result.F[:len(F)]), 0]
@@ -457,10 +457,23 @@ def test_raw_shared_meshes_in_parametrize(data_dir, name):
     np.testing.assert_array_equal(result.V[result.F], V[F])   # the cut keeps every face where it was
 
 
+def shared_file_names() -> list[str]:
+    """Every mesh-format file of the shared folder, by name (empty where the folder is absent)."""
+    from conftest import shared_data_dir
+    directory = shared_data_dir()
+    if directory is None:
+        return []
+    return sorted(path.name for path in directory.iterdir() if path.suffix in (".obj", ".off", ".ply", ".stl"))
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("name", PROBLEM_MESHES)
+@pytest.mark.parametrize("name", shared_file_names() or PROBLEM_MESHES)
 def test_demo_gives_a_complete_report(data_dir, tmp_path, name):
-    # End to end on the meshes with defects: every stage runs on the cleaned input (~25 s for the bunny).
+    # End to end on every shared file (2-9 s each here): every stage runs on the cleaned input; a
+    # file without faces (bun000.ply, a range scan) is refused in one line instead.
+    if not len(meshsmith.io.read_mesh(data_dir / name).F):
+        assert cli.main(["demo", "--input", str(data_dir / name), "--out", str(tmp_path)]) == 1
+        return
     with contextlib.redirect_stdout(text_io.StringIO()):
         assert cli.main(["demo", "--input", str(data_dir / name), "--out", str(tmp_path)]) == 0
     report = tmp_path / "index.html"
@@ -490,3 +503,16 @@ def test_demo_reports_a_failing_stage_and_goes_on(tmp_path, monkeypatch):
     assert "broken (failed)" in page and "broken on purpose" in page
     assert figures["clean"]["flipped_faces"] == len(F) and figures["clean"]["unreferenced_vertices"] == 1
     assert figures["input"]["n_vertices"] == len(V) and figures["input"]["volume"] > 0   # ran on the cleaned mesh
+
+
+def test_demo_refuses_a_point_cloud_in_one_line(tmp_path, capsys):
+    # A range scan stored as PLY vertices only (like shared/data's bun000.ply): no stage could run,
+    # so the demo says so once instead of writing a report of failed stages.
+    from meshsmith import cli, io
+    P, N = datasets.sample_points(*datasets.icosphere(2), 200, seed=0)
+    scan = tmp_path / "scan.ply"
+    io.write_points(scan, P, N)
+    assert cli.main(["demo", "--input", str(scan), "--out", str(tmp_path / "report")]) == 1
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "holds no faces" in error[0]
+    assert not (tmp_path / "report" / "index.html").exists()

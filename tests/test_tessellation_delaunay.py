@@ -270,7 +270,7 @@ def test_voronoi_cells_tile_the_box_and_hold_their_sites():
     rng = np.random.default_rng(6)
     P = rng.random((60, 2))
     bounds = (-0.2, -0.3, 1.1, 1.4)
-    diagram = voronoi(P, bounds)
+    diagram = voronoi(P, bounds=bounds)
     areas = np.array([polygon_area(c) for c in diagram.cells])
     assert np.all(areas > 0)  # CCW
     assert areas.sum() == pytest.approx(1.3 * 1.7, rel=1e-12)
@@ -311,7 +311,7 @@ def test_voronoi_vertices_and_edges():
 def test_voronoi_of_a_grid_gives_square_cells():
     x, y = np.meshgrid(np.arange(6.0), np.arange(5.0))
     P = np.column_stack([x.ravel(), y.ravel()])
-    d = voronoi(P, (-0.5, -0.5, 5.5, 4.5))
+    d = voronoi(P, bounds=(-0.5, -0.5, 5.5, 4.5))
     for site, cell in zip(P, d.cells):
         assert polygon_area(cell) == pytest.approx(1.0)
         np.testing.assert_allclose(cell.min(axis=0), site - 0.5, atol=1e-12)
@@ -325,7 +325,7 @@ def test_voronoi_default_bounds_and_duplicates():
     assert sum(areas[:5]) == pytest.approx(1.2 * 1.2)
     np.testing.assert_array_equal(d.cells[5], d.cells[1])
     with pytest.raises(InputError, match="bounds"):
-        voronoi(P, (1, 0, 0, 1))
+        voronoi(P, bounds=(1, 0, 0, 1))
 
 
 # --- Lawson flips -------------------------------------------------------------------------------

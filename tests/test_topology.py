@@ -348,10 +348,11 @@ def test_inputs_are_not_modified():
     assert np.array_equal(V, V0) and np.array_equal(F, F0)
 
 
-@pytest.mark.parametrize("n_vertices, message", [(-1, "n_vertices must be non-negative"),
-                                                 (2.5, "n_vertices must be an integer"),
-                                                 (2**40, "exceeds the 32-bit index range"),
-                                                 (2**70, "out of range")])
+@pytest.mark.parametrize("n_vertices, message", [(-1, "n_vertices = -1: expected an integer in [0, 2147483647]"),
+                                                 (2.5, "n_vertices = 2.5: expected an integer"),
+                                                 (np.nan, "n_vertices = nan: expected an integer"),
+                                                 (2**40, "n_vertices = 1099511627776: expected an integer in [0, 2147483647]"),
+                                                 (2**70, "expected an integer in [0, 2147483647]")])
 def test_connected_components_rejects_a_bad_vertex_count(n_vertices, message):
     with pytest.raises(meshsmith.InputError, match=re.escape(message)):
         topology.connected_components(np.array([[0, 1, 2]]), n_vertices=n_vertices)

@@ -10,8 +10,11 @@
 #include <pybind11/pybind11.h>
 
 #include <initializer_list>
+#include <limits>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace meshsmith::python {
 
@@ -22,15 +25,68 @@ namespace py = pybind11;
 using RealArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using IndexArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
 
+/// What the elements of an array argument must be: real numbers (float, signed or unsigned
+/// integer dtypes), indices (integer dtypes only: a float or bool index is a bug upstream) or
+/// flags (bool dtype only).
+enum class Elements { real, index, flag };
+
+/// THE conversion of an array argument: any array-like (an ndarray of any layout, read-only or
+/// not, a list or tuple of numbers, an object with __array__) → numpy array, without copying
+/// when it is one already. Every array argument of every binding goes through it, and so do the
+/// Python modules' own checks (meshsmith._arguments calls it through meshsmith._core.core).
+/// \throw InputError naming `name` for None, for anything numpy cannot turn into an array
+///        (ragged nesting: "V is not an array of numbers (list that numpy cannot convert:
+///        setting an array element with a sequence ...)"), and for a dtype that is not
+///        `elements` (objects, strings, complex, bool, datetime, structured; floats for
+///        indices). What an object's own __array__ raises (other than ValueError, TypeError or
+///        OverflowError) and MemoryError propagate as themselves.
+py::array as_numeric_array(const py::handle& object, const char* name, Elements elements);
+
+/// "(3, 2)", "(4,)": the shape of an array as numpy prints it, for messages.
+std::string shape_of(const py::array& array);
+
 /// Any array-like of real numbers with shape (n, columns) → C-contiguous float64 array.
-/// \throw InputError naming `name` for a wrong shape, a non-numeric dtype or a non-array.
-RealArray as_real_matrix(const py::handle& object, const char* name,
-                                                       Eigen::Index columns);
+/// \throw InputError naming `name` as as_numeric_array, or for a wrong shape.
+RealArray as_real_matrix(const py::handle& object, const char* name, Eigen::Index columns);
+
+/// The same, for an (n, 2) or (n, 3) array: columns_a or columns_b columns.
+RealArray as_real_matrix(const py::handle& object, const char* name, Eigen::Index columns_a,
+                         Eigen::Index columns_b);
+
+/// Any 1-D array-like of real numbers, shape (n,) → C-contiguous float64 array.
+/// \throw InputError naming `name` as as_numeric_array, or for a shape other than (n,).
+RealArray as_real_vector(const py::handle& object, const char* name);
 
 /// Any array-like of integers with shape (n, columns) → C-contiguous int32 array. Booleans and
 /// floats are rejected (a float index is a bug upstream), so are values outside int32.
-IndexArray as_index_matrix(const py::handle& object, const char* name,
-                                                     Eigen::Index columns);
+IndexArray as_index_matrix(const py::handle& object, const char* name, Eigen::Index columns);
+
+/// Any 1-D array-like of integers, shape (n,) → C-contiguous int32 array (checks as
+/// as_index_matrix).
+IndexArray as_index_vector(const py::handle& object, const char* name);
+
+/// Any 1-D array-like of booleans, shape (n,) → one char (0 or 1) per element.
+/// \throw InputError naming `name` as as_numeric_array, or for a shape other than (n,).
+std::vector<char> as_flag_vector(const py::handle& object, const char* name);
+
+namespace detail {
+/// `value` as a Python int in [minimum, maximum] (see integer_argument).
+py::int_ checked_integer(const py::handle& value, const char* name, const py::int_& minimum,
+                         const py::int_& maximum);
+}  // namespace detail
+
+/// An integer option: a Python int, a numpy integer or anything with __index__ (not a bool, not
+/// a float: 3.0 and NaN are rejected as `range` rejects them) in [minimum, maximum], checked
+/// before any allocation depends on it. Bindings take integer options as py::object and convert
+/// them here, so 2**40, 2**70 or NaN give one clear message instead of pybind11's TypeError.
+/// \throw InputError "<name> = <value>: expected an integer in [minimum, maximum]".
+template <typename Int>
+Int integer_argument(const py::handle& value, const char* name,
+                     Int minimum = std::numeric_limits<Int>::lowest(),
+                     Int maximum = std::numeric_limits<Int>::max()) {
+  static_assert(std::is_integral_v<Int>, "integer options only");
+  return detail::checked_integer(value, name, py::int_(minimum), py::int_(maximum)).template cast<Int>();
+}
 
 /// The enumerator that the string option `value` names among `choices` — one rule, and one message,
 /// for every string option of the bindings.
@@ -106,7 +162,10 @@ py::array_t<std::int64_t> indices_to_numpy(const Eigen::MatrixBase<Derived>& ind
 /// A Progress that forwards to a Python callable `(fraction, stage) -> bool | None` (None or
 /// `callback is None` means "go on"; False cancels) and that checks for Ctrl-C on every call,
 /// so long C++ loops stop promptly on KeyboardInterrupt. Call the algorithm with the GIL
-/// released: the callback re-acquires it.
+/// released: the callback re-acquires it. Whatever the callback raises reaches the caller as
+/// itself (the algorithm unwinds with it).
+/// \throw InputError now if `callback` is neither None nor callable, and from report() if the
+///        callback returns anything but True, False (Python or numpy booleans) or None.
 Progress make_progress(const py::object& callback);
 
 }  // namespace meshsmith::python

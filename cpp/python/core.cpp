@@ -9,7 +9,10 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace meshsmith::python {
 
@@ -44,7 +47,8 @@ void bind_core(py::module_& m) {
   }, py::arg("V"), py::arg("F"),
   "Builds the OpenMesh TriMesh of (V, F) and converts it back (checks manifoldness on the way).");
 
-  m.def("progress_loop", [](int steps, double seconds_per_step, const py::object& callback) {
+  m.def("progress_loop", [](const py::object& steps_in, double seconds_per_step, const py::object& callback) {
+    const int steps = integer_argument<int>(steps_in, "steps", 0);
     // Exercises the progress plumbing exactly as a long algorithm does: GIL released, report()
     // from the loop, Ctrl-C and cancellation honoured. Returns the number of steps completed.
     Progress progress = make_progress(callback);
@@ -57,6 +61,42 @@ void bind_core(py::module_& m) {
     progress.report(1.0, "progress_loop");
     return done;
   }, py::arg("steps"), py::arg("seconds_per_step"), py::arg("callback") = py::none());
+
+  // The argument conversions of the bindings, for the checks the Python modules make themselves
+  // (meshsmith._arguments): one rule, one set of messages.
+  m.def("numeric_array", [](const py::object& value, const std::string& name, const std::string& elements) {
+    return as_numeric_array(value, name.c_str(),
+                            parse_choice<Elements>(elements, "elements", {{"real", Elements::real},
+                                                                          {"index", Elements::index},
+                                                                          {"flag", Elements::flag}}));
+  }, py::arg("value"), py::arg("name"), py::arg("elements"),
+  "value as a numpy array of any shape whose dtype is `elements` ('real', 'index' or 'flag'), not converted.");
+  m.def("real_array", [](const py::object& value, const std::string& name, const py::object& columns) -> py::array {
+    if (columns.is_none()) return as_real_vector(value, name.c_str());
+    const auto pair = py::isinstance<py::tuple>(columns) ? columns.cast<std::pair<Eigen::Index, Eigen::Index>>()
+                                                         : std::pair{columns.cast<Eigen::Index>(), columns.cast<Eigen::Index>()};
+    return as_real_matrix(value, name.c_str(), pair.first, pair.second);
+  }, py::arg("value"), py::arg("name"), py::arg("columns") = py::none(),
+  "float64 C-contiguous array of shape (n,) (columns None), (n, columns) or (n, a) / (n, b) (columns (a, b)).");
+  m.def("index_array", [](const py::object& value, const std::string& name, const py::object& columns) -> py::array {
+    if (columns.is_none()) return as_index_vector(value, name.c_str());
+    return as_index_matrix(value, name.c_str(), columns.cast<Eigen::Index>());
+  }, py::arg("value"), py::arg("name"), py::arg("columns") = py::none(),
+  "int32 C-contiguous array of shape (n,) (columns None) or (n, columns).");
+  m.def("flag_array", [](const py::object& value, const std::string& name) {
+    const std::vector<char> flags = as_flag_vector(value, name.c_str());
+    py::array_t<bool> out(static_cast<py::ssize_t>(flags.size()));
+    std::copy(flags.begin(), flags.end(), out.mutable_data());
+    return out;
+  }, py::arg("value"), py::arg("name"), "bool array of shape (n,).");
+  m.def("integer_option", [](const py::object& value, const std::string& name, const py::int_& minimum,
+                             const py::int_& maximum) {
+    return detail::checked_integer(value, name.c_str(), minimum, maximum);
+  }, py::arg("value"), py::arg("name"), py::arg("minimum"), py::arg("maximum"),
+  "value as an int in [minimum, maximum]; InputError naming `name` and the range otherwise.");
+
+  m.def("check_progress", [](const py::object& callback) { make_progress(callback); }, py::arg("callback"),
+        "InputError unless callback is None or callable (as every binding's progress argument).");
 
   // The exponent of core/normalization.h's frame for Python code that normalizes itself (the
   // curves): points / 2^exponent lie in (-1, 1).

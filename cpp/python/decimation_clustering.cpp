@@ -35,8 +35,9 @@ void bind_decimation_clustering(py::module_& m) {
      py::arg("progress") = py::none(),
      "(V, F, vertex_cluster, is_manifold, cell_size) of vertex clustering on a uniform grid (§4.1).");
 
-  m.def("cell_size_for_vertex_count", [](const py::object& V, const py::object& F, Eigen::Index target) {
+  m.def("cell_size_for_vertex_count", [](const py::object& V, const py::object& F, const py::object& target_in) {
     const MeshArguments mesh(V, F);
+    const auto target = integer_argument<Eigen::Index>(target_in, "target_vertices", 1);
     return without_gil([&] { return decimation::cell_size_for_vertex_count(mesh.V(), mesh.F(), target); });
   }, py::arg("V"), py::arg("F"), py::arg("target_vertices"));
 

@@ -25,6 +25,10 @@ CollapseCost parse_cost(const std::string& name) {
                                      {"volume_change", CollapseCost::volume_change}});
 }
 
+/// Multiple-choice decimation draws this many edges per step at most (Wu & Kobbelt use 8): the
+/// draw buffer is allocated up front.
+constexpr int kMaxCandidates = 1 << 16;
+
 /// The collapse records as arrays: removed, kept, left, right (k,) and the three positions (k, 3).
 py::dict collapse_arrays(const std::vector<CollapseRecord>& records) {
   const auto k = static_cast<Eigen::Index>(records.size());
@@ -49,22 +53,23 @@ py::dict collapse_arrays(const std::vector<CollapseRecord>& records) {
 }  // namespace
 
 void bind_decimation_qem(py::module_& m) {
-  m.def("decimate_qem", [](const py::object& V, const py::object& F, Eigen::Index target_faces, double max_error,
-                           const std::string& collapse, const std::string& cost, int candidates, std::uint64_t seed,
-                           bool prevent_normal_flips, double max_normal_deviation_deg, double min_triangle_quality,
-                           int max_valence, bool keep_boundary, bool record_collapses, bool parallel, const py::object& callback) {
+  m.def("decimate_qem", [](const py::object& V, const py::object& F, const py::object& target_faces, double max_error,
+                           const std::string& collapse, const std::string& cost, const py::object& candidates,
+                           const py::object& seed, bool prevent_normal_flips, double max_normal_deviation_deg,
+                           double min_triangle_quality, const py::object& max_valence, bool keep_boundary,
+                           bool record_collapses, bool parallel, const py::object& callback) {
     const MeshArguments mesh(V, F);
     QemOptions options;
-    options.target_faces = target_faces;
+    options.target_faces = integer_argument<Eigen::Index>(target_faces, "target_faces", 0);
     options.max_error = max_error;
     options.collapse = parse_operator(collapse);
     options.cost = parse_cost(cost);
-    options.candidates = candidates;
-    options.seed = seed;
+    options.candidates = integer_argument<int>(candidates, "candidates", 0, kMaxCandidates);
+    options.seed = integer_argument<std::uint64_t>(seed, "seed");
     options.prevent_normal_flips = prevent_normal_flips;
     options.max_normal_deviation_deg = max_normal_deviation_deg;
     options.min_triangle_quality = min_triangle_quality;
-    options.max_valence = max_valence;
+    options.max_valence = integer_argument<int>(max_valence, "max_valence", 0);
     options.keep_boundary = keep_boundary;
     options.record_collapses = record_collapses;
     options.parallel = parallel;

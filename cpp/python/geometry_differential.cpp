@@ -11,6 +11,8 @@
 #include <meshsmith/geometry/normals.h>
 #include <meshsmith/geometry/spectral.h>
 
+#include <algorithm>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -85,11 +87,15 @@ void bind_geometry_differential(py::module_& m) {
     return sparse_to_python(with_mesh(V, F, [](const auto& v, const auto& f) { return mean_value_laplacian(v, f); }));
   }, py::arg("V"), py::arg("F"));
 
-  m.def("uniform_laplacian", [](const py::object& F, Eigen::Index n, bool normalized) {
+  m.def("uniform_laplacian", [](const py::object& F, const py::object& n_in, bool normalized) {
     auto faces = as_index_matrix(F, "F", 3);
-    auto L = without_gil([&] { return uniform_laplacian(map_faces(faces), n, normalized); });
+    // None: the largest index + 1 (at least 1, so a negative index gets the core's message).
+    const auto view = map_faces(faces);
+    const Eigen::Index n = n_in.is_none() ? std::max<Eigen::Index>(view.size() ? view.maxCoeff() + 1 : 1, 1)
+                                          : integer_argument<Eigen::Index>(n_in, "n", 1, std::numeric_limits<int>::max());
+    auto L = without_gil([&] { return uniform_laplacian(view, n, normalized); });
     return sparse_to_python(std::move(L));
-  }, py::arg("F"), py::arg("n"), py::arg("normalized") = false);
+  }, py::arg("F"), py::arg("n") = py::none(), py::arg("normalized") = false);
 
   m.def("mass_matrix", [](const py::object& V, const py::object& F, const std::string& kind) {
     const MassMatrixType type = parse_mass(kind, "kind");
@@ -124,8 +130,9 @@ void bind_geometry_differential(py::module_& m) {
                           to_numpy(std::move(result.d1)), to_numpy(std::move(result.d2)));
   }, py::arg("V"), py::arg("F"), py::arg("method") = "quadric_fit");
 
-  m.def("laplacian_eigenpairs", [](const py::object& V, const py::object& F, Eigen::Index k,
+  m.def("laplacian_eigenpairs", [](const py::object& V, const py::object& F, const py::object& k_in,
                                    const std::string& mass, const py::object& callback) {
+    const auto k = integer_argument<Eigen::Index>(k_in, "k", 1, std::numeric_limits<int>::max());
     const MassMatrixType type = parse_mass(mass, "mass");
     Progress progress = make_progress(callback);
     LaplacianEigenpairs result = with_mesh(V, F, [&](const auto& v, const auto& f) {

@@ -57,8 +57,9 @@ void bind_geometry_metrics(py::module_& m) {
   }, py::arg("V"), py::arg("F"), py::arg("UV"));
 
   py::class_<geometry::SurfaceDistance>(m, "SurfaceDistance")
-      .def(py::init([](const py::object& V, const py::object& F, int leaf_size) {
+      .def(py::init([](const py::object& V, const py::object& F, const py::object& leaf_size_in) {
              const MeshArguments mesh(V, F);
+             const int leaf_size = integer_argument<int>(leaf_size_in, "leaf_size", 1);
              return without_gil([&] {
                return std::make_unique<geometry::SurfaceDistance>(mesh.V(), mesh.F(), leaf_size);
              });
@@ -85,12 +86,13 @@ void bind_geometry_metrics(py::module_& m) {
 
   auto surface_distance = [](auto function) {
     return [function](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB,
-                      int samples_per_face, std::uint64_t seed, const py::object& callback) {
+                      const py::object& samples_per_face, const py::object& seed, const py::object& callback) {
       // Named conversions (not MeshArguments) so a message says which of the four arrays is bad.
       const auto va = as_real_matrix(VA, "VA", 3), vb = as_real_matrix(VB, "VB", 3);
       const auto fa = as_index_matrix(FA, "FA", 3), fb = as_index_matrix(FB, "FB", 3);
       Progress progress = make_progress(callback);
-      const geometry::SurfaceSampling sampling{samples_per_face, seed};
+      const geometry::SurfaceSampling sampling{integer_argument<int>(samples_per_face, "samples_per_face", 0),
+                                               integer_argument<std::uint64_t>(seed, "seed")};
       const auto d = without_gil([&] {
         return function(map_vertices(va), map_faces(fa), map_vertices(vb), map_faces(fb), sampling, progress);
       });

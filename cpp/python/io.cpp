@@ -50,6 +50,33 @@ std::vector<int> corner_indices(const py::object& object, const char* name, Eige
   return std::vector<int>(array.data(), array.data() + array.size());
 }
 
+/// Colours as an (n, 3) or (n, 4) array-like of reals.
+io::ColorMatrix color_rows(const py::object& object, const char* name) {
+  RealArray array;
+  try {
+    array = as_real_matrix(object, name, 3);
+  } catch (const InputError& rgb) {
+    try {
+      array = as_real_matrix(object, name, 4);
+    } catch (const InputError&) {
+      throw InputError(std::string(rgb.what()) + " (colours are RGB (n, 3) or RGBA (n, 4))");
+    }
+  }
+  return Eigen::Map<const io::ColorMatrix>(array.data(), array.shape(0), array.shape(1));
+}
+
+/// Rows of `colors` (one per polygon) repeated for each fan triangle of its polygon.
+io::ColorMatrix per_triangle(const io::ColorMatrix& colors, const std::vector<std::int64_t>& offsets) {
+  if (colors.rows() == 0 || offsets.back() == 3 * (static_cast<std::int64_t>(offsets.size()) - 1)) return colors;
+  std::int64_t triangles = 0;
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f) triangles += offsets[f + 1] - offsets[f] - 2;
+  io::ColorMatrix out(triangles, colors.cols());
+  Eigen::Index row = 0;
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f)
+    for (std::int64_t k = 0; k < offsets[f + 1] - offsets[f] - 2; ++k) out.row(row++) = colors.row(f);
+  return out;
+}
+
 VertexMatrix real_rows(const py::object& object, const char* name, Eigen::Index columns) {
   RealArray array = as_real_matrix(object, name, columns);
   VertexMatrix out(array.shape(0), 3);
@@ -58,15 +85,53 @@ VertexMatrix real_rows(const py::object& object, const char* name, Eigen::Index 
   return out;
 }
 
+/// The mesh that write_mesh's arguments describe. Triangles: F (m, 3), F_uv / F_normal (m, 3).
+/// Polygons: F is the flat corner list (k, 1) with `offsets` (m+1, 1), and F_uv / F_normal are
+/// flat lists like F. UV / N without corner indices are per vertex (the writers check their
+/// row count).
+io::PolygonMesh mesh_argument(const py::object& V, const py::object& F, const py::object& offsets,
+                            const py::object& UV, const py::object& F_uv, const py::object& N,
+                            const py::object& F_normal, const py::object& colors,
+                            const py::object& face_colors) {
+  const bool polygons = !offsets.is_none();
+  const Eigen::Index columns = polygons ? 1 : 3;
+  io::PolygonMesh mesh;
+  mesh.V = VertexMatrix(map_vertices(as_real_matrix(V, "V", 3)));
+  mesh.face_vertices = corner_indices(F, polygons ? "faces.indices" : "F", columns);
+  if (polygons) {
+    std::vector<int> starts = corner_indices(offsets, "faces.offsets", 1);
+    mesh.face_offsets.assign(starts.begin(), starts.end());
+  } else {
+    mesh.face_offsets.resize(mesh.face_vertices.size() / 3 + 1);
+    for (std::size_t f = 0; f < mesh.face_offsets.size(); ++f) mesh.face_offsets[f] = 3 * static_cast<std::int64_t>(f);
+  }
+  if (!UV.is_none()) {
+    mesh.UV = real_rows(UV, "UV", 2).leftCols<2>();
+    if (!F_uv.is_none()) mesh.face_uvs = corner_indices(F_uv, "F_uv", columns);
+  } else if (!F_uv.is_none()) {
+    throw InputError("F_uv given without UV");
+  }
+  if (!N.is_none()) {
+    mesh.N = VertexMatrix(map_vertices(as_real_matrix(N, "N", 3)));
+    if (!F_normal.is_none()) mesh.face_normals = corner_indices(F_normal, "F_normal", columns);
+  } else if (!F_normal.is_none()) {
+    throw InputError("F_normal given without N");
+  }
+  if (!colors.is_none()) mesh.colors = color_rows(colors, "colors");
+  if (!face_colors.is_none()) mesh.face_colors = color_rows(face_colors, "face_colors");
+  return mesh;
+}
+
 }  // namespace
 
 void bind_io(py::module_& m) {
   m.def("read_mesh", [](const std::string& path, const py::object& format, bool triangulate,
-                        bool with_uv, bool with_normals) {
+                        bool with_uv, bool with_normals, bool with_colors) {
     io::ReadOptions options;
     options.format = format_argument(format);
     options.with_uv = with_uv;
     options.with_normals = with_normals;
+    options.with_colors = with_colors;
     io::PolygonMesh mesh;
     Int64Triangles F, F_uv, F_normal;
     Int64Column offsets, indices, uv_indices, normal_indices;
@@ -77,6 +142,7 @@ void bind_io(py::module_& m) {
         F = triangles_int64(mesh.face_offsets, mesh.face_vertices);
         if (!mesh.face_uvs.empty()) F_uv = triangles_int64(mesh.face_offsets, mesh.face_uvs);
         if (!mesh.face_normals.empty()) F_normal = triangles_int64(mesh.face_offsets, mesh.face_normals);
+        mesh.face_colors = per_triangle(mesh.face_colors, mesh.face_offsets);
       } else {
         offsets = to_int64(mesh.face_offsets);
         indices = to_int64(mesh.face_vertices);
@@ -89,6 +155,12 @@ void bind_io(py::module_& m) {
     const bool has_uv = !mesh.face_uvs.empty(), has_normals = !mesh.face_normals.empty();
     out["UV"] = has_uv ? py::object(to_numpy(std::move(mesh.UV))) : py::none();
     out["N"] = has_normals ? py::object(to_numpy(std::move(mesh.N))) : py::none();
+    const bool has_colors = mesh.colors.rows() > 0, has_face_colors = mesh.face_colors.rows() > 0;
+    out["colors"] = has_colors ? py::object(to_numpy(std::move(mesh.colors))) : py::none();
+    out["face_colors"] = has_face_colors ? py::object(to_numpy(std::move(mesh.face_colors))) : py::none();
+    py::list warnings;
+    for (const std::string& warning : mesh.warnings) warnings.append(warning);
+    out["warnings"] = warnings;
     if (triangulate) {
       out["F"] = to_numpy(std::move(F));
       out["F_uv"] = has_uv ? py::object(to_numpy(std::move(F_uv))) : py::none();
@@ -101,47 +173,54 @@ void bind_io(py::module_& m) {
     }
     return out;
   }, py::arg("path"), py::arg("format") = py::none(), py::arg("triangulate") = true,
-     py::arg("with_uv") = false, py::arg("with_normals") = false,
+     py::arg("with_uv") = false, py::arg("with_normals") = false, py::arg("with_colors") = false,
      "Reads a mesh file; returns a dict of numpy arrays (see meshsmith.io.read_mesh).");
 
   m.def("write_mesh", [](const std::string& path, const py::object& V, const py::object& F,
                          const py::object& offsets, const py::object& UV, const py::object& F_uv,
                          const py::object& N, const py::object& F_normal,
+                         const py::object& colors, const py::object& face_colors,
                          const py::object& format, bool binary, bool big_endian) {
-    // Triangles: F (m, 3), F_uv / F_normal (m, 3). Polygons: F is the flat corner list (k, 1)
-    // with `offsets` (m+1, 1), and F_uv / F_normal are flat lists like F.
-    const bool polygons = !offsets.is_none();
-    const Eigen::Index columns = polygons ? 1 : 3;
-    io::PolygonMesh mesh;
     const io::WriteOptions options = write_options(format, binary, big_endian);
-    mesh.V = VertexMatrix(map_vertices(as_real_matrix(V, "V", 3)));
-    mesh.face_vertices = corner_indices(F, polygons ? "faces.indices" : "F", columns);
-    if (polygons) {
-      std::vector<int> starts = corner_indices(offsets, "faces.offsets", 1);
-      mesh.face_offsets.assign(starts.begin(), starts.end());
-    } else {
-      mesh.face_offsets.resize(mesh.face_vertices.size() / 3 + 1);
-      for (std::size_t f = 0; f < mesh.face_offsets.size(); ++f) mesh.face_offsets[f] = 3 * static_cast<std::int64_t>(f);
-    }
-    if (!UV.is_none()) {
-      mesh.UV = real_rows(UV, "UV", 2).leftCols<2>();
-      if (F_uv.is_none()) throw InputError("UV given without F_uv (one texture coordinate index per corner)");
-      mesh.face_uvs = corner_indices(F_uv, "F_uv", columns);
-    } else if (!F_uv.is_none()) {
-      throw InputError("F_uv given without UV");
-    }
-    if (!N.is_none()) {
-      mesh.N = VertexMatrix(map_vertices(as_real_matrix(N, "N", 3)));
-      if (!F_normal.is_none()) mesh.face_normals = corner_indices(F_normal, "F_normal", columns);
-    } else if (!F_normal.is_none()) {
-      throw InputError("F_normal given without N");
-    }
+    const io::PolygonMesh mesh = mesh_argument(V, F, offsets, UV, F_uv, N, F_normal, colors, face_colors);
     py::gil_scoped_release release;
     io::write_mesh(path, mesh, options);
   }, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("offsets") = py::none(),
      py::arg("UV") = py::none(), py::arg("F_uv") = py::none(), py::arg("N") = py::none(),
-     py::arg("F_normal") = py::none(), py::arg("format") = py::none(), py::arg("binary") = true,
+     py::arg("F_normal") = py::none(), py::arg("colors") = py::none(),
+     py::arg("face_colors") = py::none(), py::arg("format") = py::none(), py::arg("binary") = true,
      py::arg("big_endian") = false);
+
+  m.def("checked_mesh", [](const std::string& path, const py::object& V, const py::object& F,
+                           const py::object& offsets, const py::object& UV, const py::object& F_uv,
+                           const py::object& N, const py::object& F_normal,
+                           const py::object& colors, const py::object& face_colors,
+                           const py::object& format) {
+    // write_mesh's conversions and checks for a writer in Python (GLB): the mesh as flat arrays.
+    io::PolygonMesh mesh = mesh_argument(V, F, offsets, UV, F_uv, N, F_normal, colors, face_colors);
+    io::check_writable(path, mesh);
+    io::check_format_holds(path, mesh, format_argument(format));
+    py::dict out;
+    auto optional = [](auto&& matrix) {
+      return matrix.rows() > 0 ? py::object(to_numpy(std::move(matrix))) : py::object(py::none());
+    };
+    auto corners = [](const std::vector<int>& values) {
+      return values.empty() ? py::object(py::none()) : py::object(to_numpy(to_int64(values)));
+    };
+    out["offsets"] = to_numpy(to_int64(mesh.face_offsets));
+    out["indices"] = to_numpy(to_int64(mesh.face_vertices));
+    out["uv_indices"] = corners(mesh.face_uvs);
+    out["normal_indices"] = corners(mesh.face_normals);
+    out["V"] = to_numpy(std::move(mesh.V));
+    out["UV"] = optional(std::move(mesh.UV));
+    out["N"] = optional(std::move(mesh.N));
+    out["colors"] = optional(std::move(mesh.colors));
+    out["face_colors"] = optional(std::move(mesh.face_colors));
+    return out;
+  }, py::arg("path"), py::arg("V"), py::arg("F"), py::arg("offsets") = py::none(),
+     py::arg("UV") = py::none(), py::arg("F_uv") = py::none(), py::arg("N") = py::none(),
+     py::arg("F_normal") = py::none(), py::arg("colors") = py::none(),
+     py::arg("face_colors") = py::none(), py::arg("format") = py::none());
 
   m.def("read_points", [](const std::string& path, const py::object& format) {
     io::PointCloud points;

@@ -22,12 +22,12 @@ parametrization::AbfMethod abf_method(const std::string& name) {
 }  // namespace
 
 void bind_parametrization_abf(py::module_& m) {
-  m.def("abf", [](const py::object& V, const py::object& F, const std::string& method, int max_iterations,
+  m.def("abf", [](const py::object& V, const py::object& F, const std::string& method, const py::object& max_iterations,
                   double tolerance, double minimum_angle, const py::object& callback) {
     const MeshArguments mesh(V, F);
     parametrization::AbfOptions options;
     options.method = abf_method(method);
-    options.max_iterations = max_iterations;
+    options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 0, 1 << 20);
     options.tolerance = tolerance;
     options.minimum_angle = minimum_angle;
     const Progress progress = make_progress(callback);
@@ -44,19 +44,22 @@ void bind_parametrization_abf(py::module_& m) {
   }, py::arg("V"), py::arg("F"), py::arg("method") = "abf++", py::arg("max_iterations") = 30,
      py::arg("tolerance") = 1e-8, py::arg("minimum_angle") = 1e-4, py::arg("progress") = py::none());
 
-  m.def("uv_from_angles", [](const py::object& F, const py::object& angles, Eigen::Index n_vertices,
+  m.def("uv_from_angles", [](const py::object& F, const py::object& angles, const py::object& n_vertices_in,
                              const py::object& pinned, const py::object& pinned_uv) {
     const auto faces = as_index_matrix(F, "F", 3);
     const auto corner_angles = as_real_matrix(angles, "angles", 3);
     const auto face_view = map_faces(faces);
     if (face_view.rows() == 0) throw InputError("uv_from_angles: F is empty");
-    if (n_vertices < 0) n_vertices = face_view.maxCoeff() + 1;
+    const Eigen::Index n_vertices = n_vertices_in.is_none()
+                                        ? Eigen::Index(face_view.maxCoeff()) + 1
+                                        : integer_argument<Eigen::Index>(n_vertices_in, "n_vertices", 1,
+                                                                         3 * face_view.rows());  // all used
     parametrization::AnglePins pins;  // default: the first edge of face 0, on (0, 0)–(1, 0)
     pins.vertices = {face_view(0, 0), face_view(0, 1)};
     pins.positions = {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
     if (!pinned.is_none()) {
-      const auto pin_indices = as_index_matrix(pinned, "pinned", 2);
-      if (pin_indices.shape(0) != 1) throw InputError("uv_from_angles: pinned must hold two vertex indices");
+      const auto pin_indices = as_index_vector(pinned, "pinned");
+      if (pin_indices.shape(0) != 2) throw InputError("uv_from_angles: pinned must hold two vertex indices");
       pins.vertices = {pin_indices.data()[0], pin_indices.data()[1]};
     }
     if (!pinned_uv.is_none()) {
@@ -67,7 +70,7 @@ void bind_parametrization_abf(py::module_& m) {
     const Eigen::Map<const parametrization::AngleMatrix> angle_view(corner_angles.data(), corner_angles.shape(0), 3);
     auto uv = without_gil([&] { return parametrization::uv_from_angles(face_view, n_vertices, angle_view, pins); });
     return to_numpy(std::move(uv));
-  }, py::arg("F"), py::arg("angles"), py::arg("n_vertices") = -1, py::arg("pinned") = py::none(),
+  }, py::arg("F"), py::arg("angles"), py::arg("n_vertices") = py::none(), py::arg("pinned") = py::none(),
      py::arg("pinned_uv") = py::none());
 }
 

@@ -2,6 +2,7 @@
 #include "bindings.h"
 #include "convert.h"
 
+#include <meshsmith/core/validation.h>
 #include <meshsmith/parametrization/bijectivity.h>
 #include <meshsmith/parametrization/boundary_map.h>
 #include <meshsmith/parametrization/cut_to_disk.h>
@@ -22,13 +23,9 @@ using geometry::ParameterMatrix;
 using namespace meshsmith::parametrization;
 
 /// A 1-D array-like of vertex indices → std::vector<int> (dtype and range checks as for F).
-std::vector<int> as_index_vector(const py::object& object, const char* name) {
-  const auto array = py::module_::import("numpy").attr("asarray")(object);
-  if (py::cast<int>(array.attr("ndim")) != 1) {
-    throw InputError(std::string(name) + " must be a 1-D array of vertex indices");
-  }
-  const auto column = as_index_matrix(array.attr("reshape")(-1, 1), name, 1);
-  return std::vector<int>(column.data(), column.data() + column.shape(0));
+std::vector<int> as_indices(const py::object& object, const char* name) {
+  const IndexArray indices = as_index_vector(object, name);
+  return std::vector<int>(indices.data(), indices.data() + indices.shape(0));
 }
 
 /// An (n, 2) array-like of parameter positions, copied.
@@ -62,8 +59,13 @@ BoundaryMap boundary_from_arguments(const MeshArguments& mesh, const py::object&
     if (!boundary_uv.is_none()) throw InputError("boundary_uv is given without boundary");
     return without_gil([&] { return map_boundary(mesh.V(), mesh.F(), shape); });
   }
-  const std::vector<int> indices = as_index_vector(boundary, "boundary");
-  if (boundary_uv.is_none()) return without_gil([&] { return map_boundary_loop(mesh.V(), indices, shape); });
+  const std::vector<int> indices = as_indices(boundary, "boundary");
+  if (boundary_uv.is_none()) {
+    return without_gil([&] {
+      validate_mesh(mesh.V(), mesh.F());  // map_boundary_loop reads V only; (V, F) is the argument
+      return map_boundary_loop(mesh.V(), indices, shape);
+    });
+  }
   return BoundaryMap{indices, as_parameters(boundary_uv, "boundary_uv")};
 }
 
@@ -90,10 +92,12 @@ void bind_parametrization_maps(py::module_& m) {
   }, py::arg("V"), py::arg("F"), py::arg("boundary") = py::none(), py::arg("boundary_uv") = py::none(),
      py::arg("weights") = "uniform", py::arg("shape") = "circle");
 
-  m.def("stretch_minimizing", [](const py::object& V, const py::object& F, int iterations, const std::string& weights,
+  m.def("stretch_minimizing", [](const py::object& V, const py::object& F, const py::object& iterations,
+                                 const std::string& weights,
                                  const std::string& shape, const py::object& callback) {
     const MeshArguments mesh(V, F);
-    const StretchOptions options{iterations, parse_weights(weights), parse_shape(shape)};
+    const StretchOptions options{integer_argument<int>(iterations, "iterations", 0, 1 << 20), parse_weights(weights),
+                                 parse_shape(shape)};
     Progress progress = make_progress(callback);
     StretchResult result = without_gil([&] { return stretch_minimizing(mesh.V(), mesh.F(), options, progress); });
     py::dict out;
@@ -108,7 +112,7 @@ void bind_parametrization_maps(py::module_& m) {
     const MeshArguments mesh(V, F);
     if (pinned.is_none() != pinned_uv.is_none()) throw InputError("give both pinned and pinned_uv, or neither");
     if (pinned.is_none()) return to_numpy(without_gil([&] { return lscm(mesh.V(), mesh.F()); }));
-    const PinnedVertices pins{as_index_vector(pinned, "pinned"), as_parameters(pinned_uv, "pinned_uv")};
+    const PinnedVertices pins{as_indices(pinned, "pinned"), as_parameters(pinned_uv, "pinned_uv")};
     return to_numpy(without_gil([&] { return lscm(mesh.V(), mesh.F(), pins); }));
   }, py::arg("V"), py::arg("F"), py::arg("pinned") = py::none(), py::arg("pinned_uv") = py::none());
 

@@ -20,12 +20,16 @@ py::array_t<T> vector_to_numpy(const std::vector<T>& values) {
   return py::array_t<T>(static_cast<py::ssize_t>(values.size()), values.data());
 }
 
+/// The neighbour count `k` (the core checks it against the number of points).
+int neighbour_count(const py::object& k) { return integer_argument<int>(k, "k", 1); }
+
 }  // namespace
 
 void bind_points(py::module_& m) {
   py::class_<points::KdTree>(m, "KdTree")
-      .def(py::init([](const py::object& P, int leaf_size) {
+      .def(py::init([](const py::object& P, const py::object& leaf_size_in) {
              auto positions = as_real_matrix(P, "P", 3);
+             const int leaf_size = integer_argument<int>(leaf_size_in, "leaf_size", 1);
              py::gil_scoped_release release;
              return std::make_unique<points::KdTree>(map_vertices(positions), leaf_size);
            }),
@@ -35,7 +39,8 @@ void bind_points(py::module_& m) {
         VertexMatrix copy = tree.points();
         return to_numpy(std::move(copy));
       })
-      .def("query", [](const points::KdTree& tree, int k, const py::object& Q, const py::object& callback) {
+      .def("query", [](const points::KdTree& tree, const py::object& k_in, const py::object& Q, const py::object& callback) {
+             const int k = neighbour_count(k_in);
              Progress progress = make_progress(callback);
              if (Q.is_none()) {
                points::KnnResult result;
@@ -67,8 +72,9 @@ void bind_points(py::module_& m) {
                                    vector_to_numpy(result.distances));
            },
            py::arg("Q"), py::arg("radius"), py::arg("progress") = py::none())
-      .def("estimate_normals", [](const points::KdTree& tree, int k, double radius,
+      .def("estimate_normals", [](const points::KdTree& tree, const py::object& k_in, double radius,
                                   const py::object& callback) {
+             const int k = neighbour_count(k_in);
              Progress progress = make_progress(callback);
              points::NormalEstimate estimate;
              {
@@ -80,8 +86,9 @@ void bind_points(py::module_& m) {
            },
            py::arg("k") = 16, py::arg("radius") = 0.0, py::arg("progress") = py::none());
 
-  m.def("knn", [](const py::object& P, int k, const py::object& Q, const py::object& callback) {
+  m.def("knn", [](const py::object& P, const py::object& k_in, const py::object& Q, const py::object& callback) {
     auto positions = as_real_matrix(P, "P", 3);
+    const int k = neighbour_count(k_in);
     Progress progress = make_progress(callback);
     points::KnnResult result;
     if (Q.is_none()) {
@@ -95,8 +102,9 @@ void bind_points(py::module_& m) {
     return knn_to_python(std::move(result));
   }, py::arg("P"), py::arg("k"), py::arg("Q") = py::none(), py::arg("progress") = py::none());
 
-  m.def("estimate_normals", [](const py::object& P, int k, double radius, const py::object& callback) {
+  m.def("estimate_normals", [](const py::object& P, const py::object& k_in, double radius, const py::object& callback) {
     auto positions = as_real_matrix(P, "P", 3);
+    const int k = neighbour_count(k_in);
     Progress progress = make_progress(callback);
     points::NormalEstimate estimate;
     {
@@ -107,10 +115,12 @@ void bind_points(py::module_& m) {
                           to_numpy(std::move(estimate.surface_variation)));
   }, py::arg("P"), py::arg("k") = 16, py::arg("radius") = 0.0, py::arg("progress") = py::none());
 
-  m.def("orient_normals", [](const py::object& P, const py::object& N, int k, double alpha,
-                             double beta, int axis, const py::object& callback) {
+  m.def("orient_normals", [](const py::object& P, const py::object& N, const py::object& k_in, double alpha,
+                             double beta, const py::object& axis_in, const py::object& callback) {
     auto positions = as_real_matrix(P, "P", 3);
     auto normals = as_real_matrix(N, "N", 3);
+    const int k = neighbour_count(k_in);
+    const int axis = integer_argument<int>(axis_in, "axis", 0, 2);
     Progress progress = make_progress(callback);
     VertexMatrix oriented;
     {

@@ -17,33 +17,7 @@ namespace {
 using render::Camera;
 using render::RenderOptions;
 
-std::string shape_of(const py::array& array) {
-  std::string shape = "(";
-  for (py::ssize_t d = 0; d < array.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(array.shape(d));
-  return shape + (array.ndim() == 1 ? ",)" : ")");
-}
-
-py::array as_any_array(const py::handle& object, const char* name) {
-  py::array array = py::array::ensure(object);
-  if (!array) as_real_matrix(object, name, 1);  // throws its clear InputError
-  return array;
-}
-
-/// A 1-D array-like of reals → C-contiguous float64 (n, 1) array.
-RealArray as_real_vector(const py::handle& object, const char* name) {
-  py::array array = as_any_array(object, name);
-  if (array.ndim() != 1)
-    throw InputError(std::string(name) + " has shape " + shape_of(array) + ": expected (n,)");
-  return as_real_matrix(array.reshape({array.shape(0), py::ssize_t(1)}), name, 1);
-}
-
 Eigen::Vector3d as_color(const std::array<double, 3>& c) { return {c[0], c[1], c[2]}; }
-
-render::UpAxis as_up_axis(const std::string& up) {
-  if (up == "y") return render::UpAxis::y;
-  if (up == "z") return render::UpAxis::z;
-  throw InputError("unknown up axis '" + up + "': use 'y' or 'z'");
-}
 
 py::dict camera_to_dict(const Camera& camera) {
   py::dict out;
@@ -66,7 +40,7 @@ void bind_render(py::module_& m) {
     render::FramingOptions options;
     options.azimuth_deg = azimuth_deg;
     options.elevation_deg = elevation_deg;
-    options.up = as_up_axis(up);
+    options.up = render::up_axis_from_name(up);
     options.aspect = aspect;
     options.fov_y_deg = fov_y_deg;
     options.orthographic = orthographic;
@@ -85,7 +59,8 @@ void bind_render(py::module_& m) {
   m.def("render_mesh", [](const py::object& V, const py::object& F,
                           std::array<double, 3> eye, std::array<double, 3> target,
                           std::array<double, 3> up, double fov_y_deg, bool orthographic,
-                          double ortho_height, int width, int height, int supersample,
+                          double ortho_height, const py::object& width_in, const py::object& height_in,
+                          const py::object& supersample_in,
                           bool smooth_shading, double crease_angle_deg, bool lighting, bool wireframe,
                           double wireframe_width, std::array<double, 3> front_color,
                           std::array<double, 3> back_color, std::array<double, 3> wireframe_color,
@@ -96,6 +71,9 @@ void bind_render(py::module_& m) {
                           double checker_size) {
     auto vertices = as_real_matrix(V, "V", 3);
     auto faces = as_index_matrix(F, "F", 3);
+    const int width = integer_argument<int>(width_in, "width", 1, render::kMaxImageSide);
+    const int height = integer_argument<int>(height_in, "height", 1, render::kMaxImageSide);
+    const int supersample = integer_argument<int>(supersample_in, "supersample", 1, 4);
     Camera camera;
     camera.eye = as_color(eye);
     camera.target = as_color(target);
@@ -126,7 +104,7 @@ void bind_render(py::module_& m) {
       options.scalar_max = scalar_max;
     }
     if (!uv.is_none()) {
-      py::array array = as_any_array(uv, "uv");
+      py::array array = as_numeric_array(uv, "uv", Elements::real);
       RealArray coordinates;
       if (array.ndim() == 3) {
         if (array.shape(1) != 3 || array.shape(2) != 2)
@@ -158,19 +136,20 @@ void bind_render(py::module_& m) {
      py::arg("checker_size"),
      "(H, W, 4) uint8 RGBA picture of (V, F); see meshsmith.render.render for the meaning.");
 
-  m.def("colormap_table", [](const std::string& name, int steps) {
+  m.def("colormap_table", [](const std::string& name, const py::object& steps_in) {
     const render::Colormap colormap = render::colormap_from_name(name);
-    if (steps < 2) throw InputError("colormap_table: steps must be >= 2");
+    const int steps = integer_argument<int>(steps_in, "steps", 2, 1 << 20);
     VertexMatrix table(steps, 3);
     for (int i = 0; i < steps; ++i)
       table.row(i) = render::colormap_color(colormap, static_cast<double>(i) / (steps - 1)).transpose();
     return to_numpy(std::move(table));
   }, py::arg("name"), py::arg("steps") = 256, "(steps, 3) sRGB colours in [0, 1] of a colormap.");
 
-  m.def("scalar_range", [](const py::object& scalar, Eigen::Index vertex_count,
+  m.def("scalar_range", [](const py::object& scalar, const py::object& vertex_count_in,
                            bool symmetric_about_zero, double lower_percentile,
                            double upper_percentile) {
     auto values = as_real_vector(scalar, "scalar");
+    const auto vertex_count = integer_argument<Eigen::Index>(vertex_count_in, "vertex_count", 0);
     const Eigen::Map<const Eigen::VectorXd> mapped(values.data(), values.shape(0));
     const Eigen::VectorXd field = mapped;
     render::validate_vertex_scalar(field, vertex_count);
@@ -189,6 +168,7 @@ void bind_render(py::module_& m) {
     return to_numpy(std::move(V));
   }, py::arg("UV"), "(n, 3) vertices (u, v, 0) of (n, 2) texture coordinates.");
 
+  m.attr("max_image_side") = render::kMaxImageSide;
   m.def("colormap_names", &render::colormap_names);
   m.def("colormap_is_diverging", [](const std::string& name) {
     return render::colormap_is_diverging(render::colormap_from_name(name));

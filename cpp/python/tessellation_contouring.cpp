@@ -14,38 +14,15 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-std::string shape_of(const py::array& array) {
-  std::string shape = "(";
-  for (py::ssize_t d = 0; d < array.ndim(); ++d) shape += (d ? ", " : "") + std::to_string(array.shape(d));
-  return shape + (array.ndim() == 1 ? ",)" : ")");
-}
-
 /// An (n, 2) or (n, 3) real array (`allowed` picks which) → row-major copy.
 RowMatrix as_points(const py::handle& object, const char* name, bool allow_2d, bool allow_3d) {
-  if (object.is_none()) throw InputError(std::string(name) + " is None: expected an array");
-  py::array array = py::array::ensure(object);
-  if (!array) throw InputError(std::string(name) + " is not convertible to an array");
-  const bool ok = array.ndim() == 2 && ((allow_2d && array.shape(1) == 2) || (allow_3d && array.shape(1) == 3));
-  if (!ok) {
-    const std::string expected = allow_2d && allow_3d ? "(n, 2) or (n, 3)" : (allow_2d ? "(n, 2)" : "(n, 3)");
-    throw InputError(std::string(name) + " has shape " + shape_of(array) + ": expected " + expected);
-  }
-  RealArray real = as_real_matrix(array, name, array.shape(1));
+  const RealArray real = as_real_matrix(object, name, allow_2d ? 2 : 3, allow_3d ? 3 : 2);
   return Eigen::Map<const RowMatrix>(real.data(), real.shape(0), real.shape(1));
 }
 
 /// A 1-D real array → Eigen vector (copy).
-Eigen::VectorXd as_real_vector(const py::handle& object, const char* name) {
-  if (object.is_none()) throw InputError(std::string(name) + " is None: expected an array");
-  py::array array = py::array::ensure(object);
-  if (!array) throw InputError(std::string(name) + " is not convertible to an array");
-  const char kind = array.dtype().kind();
-  if (kind != 'f' && kind != 'i' && kind != 'u')
-    throw InputError(std::string(name) + " has dtype " + std::string(py::str(array.dtype())) +
-                     ": expected real numbers");
-  if (array.ndim() != 1)
-    throw InputError(std::string(name) + " has shape " + shape_of(array) + ": expected (n,)");
-  auto real = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array);
+Eigen::VectorXd as_vector(const py::handle& object, const char* name) {
+  const RealArray real = as_real_vector(object, name);
   return Eigen::Map<const Eigen::VectorXd>(real.data(), real.shape(0));
 }
 
@@ -60,8 +37,8 @@ py::array_t<double> real_to_numpy(const Eigen::MatrixBase<Derived>& m) {
 void bind_tessellation_contouring(py::module_& m) {
   m.def("power_diagram", [](const py::object& P_in, const py::object& w_in, const py::object& b_in) {
     const RowMatrix P = as_points(P_in, "P", true, true);
-    const Eigen::VectorXd weights = as_real_vector(w_in, "weights");
-    const Eigen::VectorXd bounds = as_real_vector(b_in, "bounds");
+    const Eigen::VectorXd weights = as_vector(w_in, "weights");
+    const Eigen::VectorXd bounds = as_vector(b_in, "bounds");
     auto diagram = without_gil([&] { return tessellation::power_diagram(P, weights, bounds); });
     py::list cells;
     for (const auto& cell : diagram.cells) {
@@ -99,12 +76,12 @@ void bind_tessellation_contouring(py::module_& m) {
     return without_gil([&] { return tessellation::sampling_ratio(samples); });
   }, py::arg("samples"));
 
-  m.def("crust_3d", [](const py::object& points_in, double cocone_angle, int max_hole_edges,
+  m.def("crust_3d", [](const py::object& points_in, double cocone_angle, const py::object& max_hole_edges,
                        const py::object& callback) {
     const RowMatrix points = as_points(points_in, "points", false, true);
     tessellation::CoconeOptions options;
     options.cocone_angle = cocone_angle;
-    options.max_hole_edges = max_hole_edges;
+    options.max_hole_edges = integer_argument<int>(max_hole_edges, "max_hole_edges", 0, 1 << 20);  // 4x fits an int
     const Progress progress = make_progress(callback);
     Mesh mesh = without_gil([&] { return tessellation::crust_3d(points, options, progress); });
     return py::make_tuple(to_numpy(std::move(mesh.V)), indices_to_numpy(mesh.F));

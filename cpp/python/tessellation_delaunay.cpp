@@ -50,7 +50,7 @@ void bind_tessellation_delaunay(py::module_& m) {
       py::arg("P"), py::arg("segments"), py::arg("holes"));
 
   m.def("refine", [](const py::object& P, const py::object& segments, const py::object& holes,
-                     double min_angle, double max_area, int max_steiner_points,
+                     double min_angle, double max_area, const py::object& max_steiner_points,
                      const py::object& callback) {
         auto points = as_real_matrix(P, "P", 2);
         auto pairs = as_index_matrix(segments, "segments", 2);
@@ -59,7 +59,7 @@ void bind_tessellation_delaunay(py::module_& m) {
         tessellation::RefineOptions options;
         options.min_angle_degrees = min_angle;
         options.max_area = max_area;
-        options.max_steiner_points = max_steiner_points;
+        options.max_steiner_points = integer_argument<int>(max_steiner_points, "max_steiner_points", 0);
         return planar_mesh_to_python(without_gil([&] {
           return tessellation::refine(map_points(points), map_pairs(pairs), map_points(seeds),
                                       options, progress);

@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace meshsmith::python {
@@ -30,15 +31,7 @@ py::array_t<std::int64_t> int64_vector(const Container& values) {
 /// None → -1 ("max index + 1" in the core); otherwise a non-negative integer.
 Eigen::Index vertex_count_argument(const py::object& n_vertices) {
   if (n_vertices.is_none()) return -1;
-  if (!py::isinstance<py::int_>(n_vertices) && !py::hasattr(n_vertices, "__index__"))
-    throw InputError("n_vertices must be an integer or None, got " + std::string(py::repr(n_vertices)));
-  const auto count = py::reinterpret_steal<py::int_>(PyNumber_Index(n_vertices.ptr()));
-  if (!count) throw py::error_already_set();
-  int overflow = 0;
-  const long long value = PyLong_AsLongLongAndOverflow(count.ptr(), &overflow);
-  if (overflow != 0) throw InputError("n_vertices = " + std::string(py::str(count)) + " is out of range");
-  if (value < 0) throw InputError("n_vertices must be non-negative, got " + std::to_string(value));
-  return static_cast<Eigen::Index>(value);
+  return integer_argument<Eigen::Index>(n_vertices, "n_vertices", 0, std::numeric_limits<int>::max());
 }
 
 }  // namespace

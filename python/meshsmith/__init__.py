@@ -5,9 +5,21 @@ Chapters are submodules (``meshsmith.io``, ``meshsmith.topology``, ...); errors 
 :class:`InputError` (bad input, a ``ValueError``), :class:`SolverError` (a ``RuntimeError``)
 and :class:`Cancelled` (a progress callback returned False).
 """
+from . import (
+               core,
+               curves,
+               datasets,
+               decimation,
+               geometry,
+               io,
+               parametrization,
+               points,
+               render,
+               repair,
+               tessellation,
+               topology,
+)
 from ._core import Cancelled, InputError, SolverError
-from . import (core, curves, datasets, decimation, geometry, io, parametrization, points, render, repair,
-               tessellation, topology)
 
 __version__ = core.version()
 

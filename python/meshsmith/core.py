@@ -6,13 +6,48 @@ functions expose them directly.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from ._core import core as _core
+from ._deprecation import positional_options
+from ._results import Unpackable
+from ._typing import (
+    ArrayLike,
+    BoolArray,
+    FloatArray,
+    IndexArray,
+    PathLike,
+    ProgressCallback,
+)
+
+__all__ = ["validate_mesh", "Mesh", "PointCloud", "MeshDefects", "mesh_defects", "version", "dependency_versions",
+           "ArrayLike", "FloatArray", "IndexArray", "BoolArray", "PathLike", "ProgressCallback"]
 
 
-def validate_mesh(V, F) -> None:
+class Mesh(NamedTuple):
+    """A triangle mesh as two arrays; unpacks as ``V, F = mesh``.
+
+    V: (n, 3) float64 vertex positions (or (n, 2) for planar meshes). F: (m, 3) int64 triangles.
+    The result of every function that returns a mesh (readers, decimation, datasets, ...).
+    """
+
+    V: FloatArray
+    F: IndexArray
+
+
+class PointCloud(NamedTuple):
+    """Points with optional normals; unpacks as ``P, N = cloud``.
+
+    P: (n, 3) float64 positions. N: (n, 3) float64 unit normals, or None when there are none.
+    """
+
+    P: FloatArray
+    N: FloatArray | None
+
+
+def validate_mesh(V: ArrayLike, F: ArrayLike) -> None:
     """Raise :class:`meshsmith.InputError` unless (V, F) is a usable triangle mesh.
 
     V: (n, 3) real array of vertex positions, finite. F: (m, 3) integer array of triangles,
@@ -22,13 +57,16 @@ def validate_mesh(V, F) -> None:
 
 
 @dataclass(frozen=True)
-class MeshDefects:
-    """Defects that are not errors but that many algorithms care about (indices ascending)."""
+class MeshDefects(Unpackable):
+    """Defects that are not errors but that many algorithms care about (indices ascending).
 
-    degenerate_faces: np.ndarray       # faces with a repeated vertex index
-    zero_area_faces: np.ndarray        # distinct indices but area <= area_tolerance
-    duplicate_faces: np.ndarray        # same vertex set as an earlier face (later copies listed)
-    unreferenced_vertices: np.ndarray  # vertices no face uses
+    Unpacks in field order: ``degenerate, zero_area, duplicate, unreferenced, summary``.
+    """
+
+    degenerate_faces: IndexArray       # faces with a repeated vertex index
+    zero_area_faces: IndexArray        # distinct indices but area <= area_tolerance
+    duplicate_faces: IndexArray        # same vertex set as an earlier face (later copies listed)
+    unreferenced_vertices: IndexArray  # vertices no face uses
     summary: str                       # one line per kind of defect, "" if none
 
     @property
@@ -36,14 +74,18 @@ class MeshDefects:
         return not self.summary
 
 
-def mesh_defects(V, F, area_tolerance: float = 0.0) -> MeshDefects:
+@positional_options("area_tolerance")
+def mesh_defects(V: ArrayLike, F: ArrayLike, *, area_tolerance: float = 0.0) -> MeshDefects:
     """Find degenerate, zero-area and duplicate faces and unreferenced vertices of (V, F).
 
     Raises InputError if (V, F) fails :func:`validate_mesh`.
     """
     found = _core.find_mesh_defects(V, F, float(area_tolerance))
-    return MeshDefects(**{k: (np.asarray(v, dtype=np.int64) if k != "summary" else v)
-                          for k, v in found.items()})
+    def indices(name: str) -> IndexArray:
+        return np.asarray(found[name], dtype=np.int64)
+
+    return MeshDefects(indices("degenerate_faces"), indices("zero_area_faces"), indices("duplicate_faces"),
+                       indices("unreferenced_vertices"), str(found["summary"]))
 
 
 def version() -> str:

@@ -29,8 +29,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _arguments
 from ._core import InputError
 from ._core import core as _core
+from ._deprecation import positional_options
+from ._typing import ArrayLike, FloatArray
 
 __all__ = ["arc_length", "arc_length_parametrization", "tangents", "normals", "curvature"]
 
@@ -39,26 +42,11 @@ CURVATURE_METHODS = ("turning_angle", "osculating_circle", "second_difference")
 
 # --- input handling ---------------------------------------------------------------------------
 
-def _as_curve(P, name="P") -> np.ndarray:
-    try:
-        array = np.asarray(P)
-    except Exception as error:  # ragged lists and the like
-        raise InputError(f"{name} is not an array of points: {error}") from None
-    if array.dtype == bool or not (np.issubdtype(array.dtype, np.integer)
-                                   or np.issubdtype(array.dtype, np.floating)):
-        raise InputError(f"{name} has dtype {array.dtype}: expected real numbers")
-    if array.ndim != 2 or array.shape[1] not in (2, 3):
-        raise InputError(f"{name} has shape {array.shape}: expected (n, 2) or (n, 3) points")
-    array = array.astype(np.float64, copy=False)
-    bad = np.argwhere(~np.isfinite(array))
-    if len(bad):
-        row, column = bad[0]
-        raise InputError(f"{name}[{row}, {column}] is {array[row, column]}: "
-                         "curve coordinates must be finite")
-    return array
+def _as_curve(P: ArrayLike, name: str = "P") -> FloatArray:
+    return _arguments.finite(_arguments.real_array(P, name, (2, 3)), name)
 
 
-def _normalized_curve(P, name="P") -> tuple[np.ndarray, int]:
+def _normalized_curve(P: ArrayLike, name: str = "P") -> tuple[FloatArray, int]:
     """The validated curve scaled into (-1, 1) by 2^-exponent (core/normalization.h; exact), and
     the exponent. Every operator here is scale-invariant, so each runs on these coordinates:
     curves of size 1e-300 or 1e300 give the answers of size 1 (edge lengths of 1e-300 squared
@@ -71,7 +59,8 @@ def _normalized_curve(P, name="P") -> tuple[np.ndarray, int]:
 def _to_input(values: np.ndarray, exponent: int, power: int, what: str) -> np.ndarray:
     """A result of unit length^power computed on normalized coordinates, in input units.
     Raises InputError if it leaves the double range."""
-    result = np.ldexp(values, power * exponent)
+    with np.errstate(over="ignore"):  # reported below, with the index
+        result = np.ldexp(values, power * exponent)
     overflowed = np.isfinite(values) & ~np.isfinite(result)
     if overflowed.any():
         index = int(np.flatnonzero(overflowed.ravel())[0])
@@ -89,7 +78,7 @@ def _norms(X: np.ndarray) -> np.ndarray:
     return result
 
 
-def _distinct(P: np.ndarray, closed: bool, minimum: int, what: str):
+def _distinct(P: FloatArray, closed: bool, minimum: int, what: str) -> tuple[FloatArray, np.ndarray]:
     """Drops repeated consecutive points. Returns (distinct points, index of the distinct point
     each original point stands for)."""
     same_as_previous = np.zeros(len(P), dtype=bool)
@@ -114,7 +103,8 @@ def _edges(P: np.ndarray, closed: bool) -> np.ndarray:
     return following - (P if closed else P[:-1])
 
 
-def _interior_stencils(P: np.ndarray, closed: bool):
+def _interior_stencils(P: FloatArray, closed: bool
+                       ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """For each point that has two neighbours: (d-, d+, h-, h+). Closed: all n points;
     open: points 1 .. n-2."""
     edges = _edges(P, closed)
@@ -134,7 +124,8 @@ def _with_open_ends(interior: np.ndarray, closed: bool) -> np.ndarray:
 
 # --- arc length -------------------------------------------------------------------------------
 
-def arc_length(P, closed: bool = False) -> np.ndarray:
+@positional_options("closed")
+def arc_length(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     """Cumulative arc length s of the polyline (§1.1.1, s(u) = ∫ ||f'||).
 
     P: (n, 2) or (n, 3) points, n >= 2. Returns s, (n,) float64 for an open curve (s[0] = 0,
@@ -148,7 +139,8 @@ def arc_length(P, closed: bool = False) -> np.ndarray:
     return _to_input(np.concatenate([[0.0], np.cumsum(lengths)]), exponent, 1, "the arc length")
 
 
-def arc_length_parametrization(P, n: int | None = None, closed: bool = False) -> np.ndarray:
+@positional_options("closed")
+def arc_length_parametrization(P: ArrayLike, n: int | None = None, *, closed: bool = False) -> FloatArray:
     """Resamples the polyline at n points equally spaced in arc length (§1.1.1).
 
     P: (m, 2) or (m, 3) points with at least 2 distinct ones (3 if closed). n: number of
@@ -159,9 +151,7 @@ def arc_length_parametrization(P, n: int | None = None, closed: bool = False) ->
     """
     P, exponent = _normalized_curve(P)
     P, _ = _distinct(P, closed, 3 if closed else 2, "arc-length resampling")
-    n = len(P) if n is None else n
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < (3 if closed else 2):
-        raise InputError(f"n = {n!r} must be an integer >= {3 if closed else 2}")
+    n = len(P) if n is None else _arguments.integer(n, "n", 3 if closed else 2, _arguments.MAX_ELEMENTS)
     loop = np.vstack([P, P[:1]]) if closed else P
     s = arc_length(loop)
     total = s[-1]
@@ -172,7 +162,8 @@ def arc_length_parametrization(P, n: int | None = None, closed: bool = False) ->
 
 # --- tangents, curvature vectors, normals -----------------------------------------------------
 
-def tangents(P, closed: bool = False) -> np.ndarray:
+@positional_options("closed")
+def tangents(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     """Unit tangents (§1.1.3), (n, d) float64: at interior points the derivative of the
     quadratic through the point and its two neighbours (chord-length parameter), at the ends of
     an open curve the direction of the end edge, where the curve doubles back exactly
@@ -200,7 +191,8 @@ def _curvature_vectors(distinct: np.ndarray, closed: bool) -> np.ndarray:
     return 2.0 * (d_out - d_in) / (h_in + h_out)[:, None]
 
 
-def normals(P, closed: bool = False) -> np.ndarray:
+@positional_options("closed")
+def normals(P: ArrayLike, *, closed: bool = False) -> FloatArray:
     """Unit normals (§1.1: n = f'^⊥ / ||f'^⊥||), (n, d) float64.
 
     2D: the tangent turned 90° counter-clockwise, (-t_y, t_x) (points inward on a
@@ -213,7 +205,7 @@ def normals(P, closed: bool = False) -> np.ndarray:
     """
     P, _ = _normalized_curve(P)
     distinct, representative = _distinct(P, closed, 3, "normals")
-    t = tangents(distinct, closed)
+    t = tangents(distinct, closed=closed)
     if distinct.shape[1] == 2:
         return np.stack([-t[:, 1], t[:, 0]], axis=1)[representative]
     kappa_vector = _with_open_ends(_curvature_vectors(distinct, closed), closed)
@@ -244,8 +236,9 @@ def normals(P, closed: bool = False) -> np.ndarray:
 
 # --- curvature --------------------------------------------------------------------------------
 
-def curvature(P, closed: bool = False, method: str = "turning_angle",
-              signed: bool = False) -> np.ndarray:
+@positional_options("closed", "method", "signed")
+def curvature(P: ArrayLike, *, closed: bool = False, method: str = "turning_angle",
+              signed: bool = False) -> FloatArray:
     """Discrete curvature κ at each point (§1.1.3), (n,) float64.
 
     method:

@@ -1,6 +1,6 @@
 """Procedural shapes and point samples for tests, examples and the demo (pure numpy).
 
-Every mesh generator returns ``(V, F)``: V float64 (n, 3), F int64 (m, 3), counter-clockwise
+Every mesh generator returns a :class:`meshsmith.core.Mesh` ``(V, F)``: V float64 (n, 3), F int64 (m, 3), counter-clockwise
 seen from outside (outward normals, positive :func:`meshsmith.geometry.volume` for closed
 shapes), manifold, without duplicate or unreferenced vertices. Bad parameters raise
 :class:`meshsmith.InputError`, and so do sizes beyond ``MAX_ELEMENTS`` (2^26 ≈ 67M faces or
@@ -12,9 +12,16 @@ import numbers
 
 import numpy as np
 
+from . import _arguments
+from ._arguments import MAX_ELEMENTS
 from ._core import InputError
+from ._deprecation import positional_options
+from ._typing import ArrayLike
+from .core import Mesh, PointCloud
 
-MAX_ELEMENTS = 2 ** 26
+# The finest icosphere within MAX_ELEMENTS faces (20 * 4**10 = 21M; 4**11 would be 84M): the
+# bound is on the exponent, checked before 4**subdivisions is computed.
+_ICOSPHERE_MAX_SUBDIVISIONS = 10
 
 __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
            "sphere_points"]
@@ -22,12 +29,12 @@ __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "c
 
 # --- parameter checks --------------------------------------------------------------------------
 
-def _integer(name: str, value, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise InputError(f"{name} must be an integer, got {value!r}")
-    if value < minimum:
-        raise InputError(f"{name} must be at least {minimum}, got {value}")
-    return int(value)
+def _integer(name: str, value: object, minimum: int, maximum: int = MAX_ELEMENTS) -> int:
+    return _arguments.integer(value, name, minimum, maximum)
+
+
+def _seed(value: object) -> int:
+    return _arguments.integer(value, "seed", 0, 2 ** 64 - 1)
 
 
 def _not_too_large(what: str, count: int) -> None:
@@ -36,21 +43,21 @@ def _not_too_large(what: str, count: int) -> None:
                          f"MAX_ELEMENTS = {MAX_ELEMENTS:,} are generated")
 
 
-def _positive(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) \
+def _positive(name: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(float(value)) \
             or value <= 0:
         raise InputError(f"{name} must be a positive finite number, got {value!r}")
     return float(value)
 
 
-def _non_negative(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) \
+def _non_negative(name: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(float(value)) \
             or value < 0:
         raise InputError(f"{name} must be a non-negative finite number, got {value!r}")
     return float(value)
 
 
-def _mesh_arrays(V, F) -> tuple[np.ndarray, np.ndarray]:
+def _mesh_arrays(V: ArrayLike, F: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """(V, F) as float64 / int64 arrays, validated by the core (raises InputError)."""
     from ._core import core as _core
 
@@ -60,17 +67,16 @@ def _mesh_arrays(V, F) -> tuple[np.ndarray, np.ndarray]:
 
 # --- closed surfaces -----------------------------------------------------------------------------
 
-def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def icosphere(subdivisions: int = 3, radius: float = 1.0) -> Mesh:
     """Sphere from a regular icosahedron whose triangles are split in four ``subdivisions`` times,
     new vertices pushed onto the sphere.
 
     Returns 10·4^s + 2 vertices and 20·4^s faces (s = subdivisions: 3 → 1,280 faces,
     8 → 1,310,720), every vertex at distance ``radius`` from the origin.
-    Raises InputError if subdivisions < 0 or radius <= 0.
+    Raises InputError if subdivisions is not an integer in [0, 10] (10: 21M faces) or radius <= 0.
     """
-    subdivisions = _integer("subdivisions", subdivisions, 0)
+    subdivisions = _integer("subdivisions", subdivisions, 0, _ICOSPHERE_MAX_SUBDIVISIONS)
     radius = _positive("radius", radius)
-    _not_too_large("faces", 20 * 4 ** subdivisions)
     t = (1.0 + 5.0 ** 0.5) / 2.0
     V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0],
                   [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
@@ -83,7 +89,7 @@ def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[np.ndarray, n
     for _ in range(subdivisions):
         V, F = _split_in_four(V, F)
         V /= np.linalg.norm(V, axis=1, keepdims=True)
-    return V * radius, F
+    return Mesh(V * radius, F)
 
 
 def _split_in_four(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -103,7 +109,7 @@ def _split_in_four(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 
 def uv_sphere(n_latitude: int = 32, n_longitude: int = 64,
-              radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+              radius: float = 1.0) -> Mesh:
     """Latitude-longitude sphere: two poles on the z axis and ``n_latitude - 1`` rings of
     ``n_longitude`` vertices; fans at the poles, two triangles per quad elsewhere.
 
@@ -129,7 +135,7 @@ def uv_sphere(n_latitude: int = 32, n_longitude: int = 64,
     lower_j, lower_jn = upper_j + n_longitude, upper_jn + n_longitude          # ring r + 1
     band = np.concatenate([np.stack([upper_j, lower_j, lower_jn], -1).reshape(-1, 3),
                            np.stack([upper_j, lower_jn, upper_jn], -1).reshape(-1, 3)])
-    return V, np.concatenate([north_cap, band, south_cap]).astype(np.int64)
+    return Mesh(V, np.concatenate([north_cap, band, south_cap]).astype(np.int64))
 
 
 def _periodic_quads(rows: int, cols: int, wrap_rows: bool, wrap_cols: bool) -> np.ndarray:
@@ -144,7 +150,7 @@ def _periodic_quads(rows: int, cols: int, wrap_rows: bool, wrap_cols: bool) -> n
 
 
 def torus(major_radius: float = 1.0, minor_radius: float = 0.35, n_major: int = 64,
-          n_minor: int = 32) -> tuple[np.ndarray, np.ndarray]:
+          n_minor: int = 32) -> Mesh:
     """Torus around the z axis: tube of radius ``minor_radius`` around a circle of radius
     ``major_radius``, ``n_major × n_minor`` vertices. Genus 1.
 
@@ -164,10 +170,10 @@ def torus(major_radius: float = 1.0, minor_radius: float = 0.35, n_major: int = 
     ring = major_radius + minor_radius * np.cos(W)
     V = np.stack([ring * np.cos(U), ring * np.sin(U), minor_radius * np.sin(W)], -1).reshape(-1, 3)
     # Lattice (major i, minor j): d/du × d/dv points outward, so the (i, j) order is outward.
-    return V, _periodic_quads(n_major, n_minor, True, True)
+    return Mesh(V, _periodic_quads(n_major, n_minor, True, True))
 
 
-def grid(nx: int = 32, ny: int = 32, size=(1.0, 1.0)) -> tuple[np.ndarray, np.ndarray]:
+def grid(nx: int = 32, ny: int = 32, size: tuple[float, float] = (1.0, 1.0)) -> Mesh:
     """Flat rectangle [0, size[0]] × [0, size[1]] in the plane z = 0 with ``nx × ny`` cells
     ((nx+1)(ny+1) vertices, 2·nx·ny triangles), normals +z, one boundary loop.
 
@@ -183,10 +189,10 @@ def grid(nx: int = 32, ny: int = 32, size=(1.0, 1.0)) -> tuple[np.ndarray, np.nd
     x, y = np.meshgrid(np.linspace(0.0, width, nx + 1), np.linspace(0.0, height, ny + 1),
                        indexing="ij")
     V = np.stack([x, y, np.zeros_like(x)], -1).reshape(-1, 3)
-    return V, _periodic_quads(nx + 1, ny + 1, False, False)
+    return Mesh(V, _periodic_quads(nx + 1, ny + 1, False, False))
 
 
-def disk(n_rings: int = 16, n_segments: int = 64, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def disk(n_rings: int = 16, n_segments: int = 64, radius: float = 1.0) -> Mesh:
     """Flat disk of ``radius`` in the plane z = 0, normals +z, one boundary loop: a center vertex
     and ``n_rings`` concentric rings, ring r holding ``max(3, round(n_segments · r / n_rings))``
     vertices (so the triangles stay well shaped), neighbouring rings zipped together.
@@ -207,7 +213,7 @@ def disk(n_rings: int = 16, n_segments: int = 64, radius: float = 1.0) -> tuple[
     faces = [np.stack([np.zeros_like(first), starts[0] + first, starts[0] + (first + 1) % counts[0]], 1)]
     for r in range(1, n_rings):
         faces.append(_zip_rings(starts[r - 1], counts[r - 1], starts[r], counts[r]))
-    return np.vstack(points), np.concatenate(faces).astype(np.int64)
+    return Mesh(np.vstack(points), np.concatenate(faces).astype(np.int64))
 
 
 def _zip_rings(inner_start: int, inner_count: int, outer_start: int, outer_count: int) -> np.ndarray:
@@ -229,7 +235,7 @@ def _zip_rings(inner_start: int, inner_count: int, outer_start: int, outer_count
                     np.stack([inner, outer, inner_next], 1))
 
 
-def cube(subdivisions: int = 8, size: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def cube(subdivisions: int = 8, size: float = 1.0) -> Mesh:
     """Closed axis-aligned cube [-size/2, size/2]^3, each side a ``subdivisions × subdivisions``
     grid of two-triangle cells, welded along the cube's edges (6·s² + 2 vertices, 12·s² faces).
 
@@ -241,23 +247,23 @@ def cube(subdivisions: int = 8, size: float = 1.0) -> tuple[np.ndarray, np.ndarr
     # Lattice points on the cube's surface, numbered through a dense (s+1)^3 lookup table.
     lattice = np.stack(np.meshgrid(*[np.arange(s + 1)] * 3, indexing="ij"), -1).reshape(-1, 3)
     on_surface = np.any((lattice == 0) | (lattice == s), axis=1)
-    index = np.full(len(lattice), -1, dtype=np.int64)
-    index[on_surface] = np.arange(on_surface.sum())
-    index = index.reshape(s + 1, s + 1, s + 1)
+    numbering = np.full(len(lattice), -1, dtype=np.int64)
+    numbering[on_surface] = np.arange(on_surface.sum())
+    index = numbering.reshape(s + 1, s + 1, s + 1)
     V = (lattice[on_surface] / s - 0.5) * size
-    u, v = np.meshgrid(np.arange(s), np.arange(s), indexing="ij")
-    u, v = u.ravel(), v.ravel()
+    u_grid, v_grid = np.meshgrid(np.arange(s), np.arange(s), indexing="ij")
+    u, v = u_grid.ravel(), v_grid.ravel()
     faces = []
     # (fixed axis, its value, axis of u, axis of v) with u × v pointing outward.
     for axis, level, axis_u, axis_v in [(0, s, 1, 2), (0, 0, 2, 1), (1, s, 2, 0), (1, 0, 0, 2),
                                         (2, s, 0, 1), (2, 0, 1, 0)]:
-        def corner(du, dv):
+        def corner(du: int, dv: int) -> np.ndarray:
             point = np.empty((len(u), 3), dtype=np.int64)
             point[:, axis], point[:, axis_u], point[:, axis_v] = level, u + du, v + dv
             return index[point[:, 0], point[:, 1], point[:, 2]]
         c00, c10, c11, c01 = corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)
         faces += [np.stack([c00, c10, c11], 1), np.stack([c00, c11, c01], 1)]
-    return V, np.concatenate(faces).astype(np.int64)
+    return Mesh(V, np.concatenate(faces).astype(np.int64))
 
 
 # --- derived data ----------------------------------------------------------------------------------
@@ -275,14 +281,14 @@ def _mean_edge_length(V: np.ndarray, F: np.ndarray) -> float:
     return float(np.linalg.norm(sides, axis=1).mean())
 
 
-def noisy(V, F, sigma: float = 0.01, seed: int = 0,
-          direction: str = "normal") -> tuple[np.ndarray, np.ndarray]:
+@positional_options("sigma", "seed", "direction")
+def noisy(V: ArrayLike, F: ArrayLike, *, sigma: float = 0.01, seed: int = 0, direction: str = "normal") -> Mesh:
     """A noisy copy of a mesh, as a scan would give it: each vertex moves by Gaussian noise of
     standard deviation ``sigma × mean edge length``.
 
     direction: ``"normal"`` (default) moves each vertex along its area-weighted vertex normal
     (the surface is perturbed, the sampling is not); ``"isotropic"`` moves it in all three
-    directions. V: (n, 3) float array, F: (m, 3) integer array. Returns (V', F) with F an int64
+    directions. V: (n, 3) float array, F: (m, 3) integer array. Returns a Mesh (V', F) with F an int64
     copy; the input is not modified. Same seed, same result.
     Raises InputError for a bad mesh, sigma < 0, or an unknown direction.
     """
@@ -290,26 +296,28 @@ def noisy(V, F, sigma: float = 0.01, seed: int = 0,
     sigma = _non_negative("sigma", sigma)
     if direction not in ("normal", "isotropic"):
         raise InputError(f"direction must be 'normal' or 'isotropic', got {direction!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     scale = sigma * _mean_edge_length(V, F)
     if direction == "isotropic":
-        return V + rng.normal(scale=scale, size=V.shape), F.copy()
+        return Mesh(V + rng.normal(scale=scale, size=V.shape), F.copy())
     normals, areas = _face_normals_and_areas(V, F)
     vertex_normals = np.zeros_like(V)
     for k in range(3):
         np.add.at(vertex_normals, F[:, k], normals * areas[:, None])
     length = np.linalg.norm(vertex_normals, axis=1, keepdims=True)
     vertex_normals = np.divide(vertex_normals, length, out=np.zeros_like(V), where=length > 0)
-    return V + vertex_normals * rng.normal(scale=scale, size=(len(V), 1)), F.copy()
+    return Mesh(V + vertex_normals * rng.normal(scale=scale, size=(len(V), 1)), F.copy())
 
 
-def sample_points(V, F, n: int, seed: int = 0, noise: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+@positional_options("seed", "noise")
+def sample_points(V: ArrayLike, F: ArrayLike, n: int, *, seed: int = 0, noise: float = 0.0) -> PointCloud:
     """``n`` points sampled uniformly by area on the surface, with the true unit normals of the
     faces they lie on.
 
     noise: standard deviation of isotropic Gaussian noise added to the points, relative to the
     mean edge length (0: exactly on the surface; the normals are never perturbed).
-    V: (v, 3) float array, F: (m, 3) integer array. Returns (P (n, 3) float64, N (n, 3) float64).
+    V: (v, 3) float array, F: (m, 3) integer array. Returns a :class:`meshsmith.core.PointCloud`
+    (P (n, 3) float64, N (n, 3) float64).
     Same seed, same result. Raises InputError for a bad mesh, n < 1, noise < 0, or a mesh of
     zero area.
     """
@@ -321,7 +329,7 @@ def sample_points(V, F, n: int, seed: int = 0, noise: float = 0.0) -> tuple[np.n
     total = areas.sum()
     if not total > 0:
         raise InputError("the mesh has zero area: no point can be sampled on it")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     faces = rng.choice(len(F), size=n, p=areas / total)
     r1, r2 = rng.random(n), rng.random(n)
     root = np.sqrt(r1)  # uniform in the triangle: (1 - √r1, √r1 (1 - r2), √r1 r2)
@@ -329,18 +337,18 @@ def sample_points(V, F, n: int, seed: int = 0, noise: float = 0.0) -> tuple[np.n
     P = np.einsum("nk,nkd->nd", weights, V[F[faces]])
     if noise > 0:
         P = P + rng.normal(scale=noise * _mean_edge_length(V, F), size=P.shape)
-    return P, normals[faces].copy()
+    return PointCloud(P, normals[faces].copy())
 
 
-def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> PointCloud:
     """``n`` points uniformly distributed on the sphere of ``radius`` around the origin, with
-    their outward unit normals. Returns (P (n, 3), N (n, 3)) float64. Same seed, same result.
+    their outward unit normals. Returns a :class:`meshsmith.core.PointCloud` (P (n, 3), N (n, 3)) float64. Same seed, same result.
     Raises InputError if n < 1 or radius <= 0.
     """
     n = _integer("n", n, 1)
     _not_too_large("points", n)
     radius = _positive("radius", radius)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_seed(seed))
     N = rng.normal(size=(n, 3))
     length = np.linalg.norm(N, axis=1, keepdims=True)
     while np.any(length == 0):  # probability zero, but never divide by it
@@ -348,4 +356,4 @@ def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> tuple[np.ndarra
         N[redraw] = rng.normal(size=(int(redraw.sum()), 3))
         length = np.linalg.norm(N, axis=1, keepdims=True)
     N /= length
-    return N * radius, N
+    return PointCloud(N * radius, N)

@@ -10,24 +10,61 @@ the title and the colour bar; Pillow (``pip install 'meshsmith[viz]'``) draws th
 writes the PNG.
 
     >>> image = render(V, F, "bunny.png")                        # (600, 800, 3) uint8
-    >>> render(V, F, "curv.png", scalar=H, cmap="coolwarm", scalar_label="mean curvature")
+    >>> render(V, F, "curv.png", scalar=H, scalar_label="mean curvature")   # diverging map: H changes sign
     >>> render(V, F, "views.png", views=["front", "left", "top", "three-quarter"])
 
-Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data); the front view
-looks from +y-up's +z axis towards -z (from -y with ``up="z"``); azimuth turns the camera about
-the up axis towards +x (the right view), elevation lifts it (the top view looks down).
+Conventions: the up axis is +y by default (``up="z"`` for CAD and scan data; any of x, y, z,
+-x, -y, -z); the front view looks from +z towards -z (from -y with ``up="z"`` or ``"-z"``);
+azimuth turns the camera about the up axis towards screen right (+x for y and z up: the right
+view), elevation lifts it (the top view looks down the up axis).
+
+Colours: a scalar field is drawn with a sequential map (viridis) when it has one sign and with a
+diverging map centred on 0 (coolwarm) when it changes sign, unless `cmap` says otherwise. Its
+range is the 2nd to 98th percentile unless `scalar_range` is given; values outside the range take
+the end colours, and the colour bar then shows a triangle (an overflow arrow) at that end.
 """
 from __future__ import annotations
 
 import math
+import os
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, Sequence
 
 import numpy as np
 
+from . import _arguments
 from ._core import InputError
 from ._core import render as _core
+from ._deprecation import positional_options
+from ._typing import ArrayLike, FloatArray, PathLike
+
+if TYPE_CHECKING:
+    from .parametrization import Parametrization
+
+__all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "ViewAngles", "ScalarRange", "view_angles", "frame_camera", "colormap", "scalar_range",
+           "default_colormap", "clipped_ends",
+           "render", "render_uv_layout", "plot_planar", "parametrization_picture", "save_png"]
+
+#: A view: a name from :data:`VIEWS` or an (azimuth, elevation) pair in degrees.
+View = str | tuple[float, float]
+#: A colour: a name, "#rrggbb", or an RGB triple of 0-255 ints or 0-1 floats.
+Color = str | Sequence[float]
+
+
+class ViewAngles(NamedTuple):
+    """Result of :func:`view_angles`; unpacks as ``azimuth, elevation`` (degrees)."""
+
+    azimuth: float
+    elevation: float
+
+
+class ScalarRange(NamedTuple):
+    """Result of :func:`scalar_range`; unpacks as ``low, high``."""
+
+    low: float
+    high: float
 
 #: Named views as (azimuth, elevation) in degrees.
 VIEWS: dict[str, tuple[float, float]] = {
@@ -67,7 +104,7 @@ class Camera:
     ortho_height: float = 2.0
 
 
-def view_angles(view) -> tuple[float, float]:
+def view_angles(view: View) -> ViewAngles:
     """(azimuth, elevation) in degrees of a view name from :data:`VIEWS` or an (az, el) pair.
 
     Raises InputError for an unknown name or a pair that is not two finite numbers.
@@ -76,7 +113,7 @@ def view_angles(view) -> tuple[float, float]:
         if view not in VIEWS:
             raise InputError(f"unknown view '{view}': use one of {', '.join(VIEWS)} "
                              "or an (azimuth, elevation) pair in degrees")
-        return VIEWS[view]
+        return ViewAngles(*VIEWS[view])
     try:
         azimuth, elevation = (float(a) for a in view)
     except (TypeError, ValueError):
@@ -84,16 +121,17 @@ def view_angles(view) -> tuple[float, float]:
                          "nor an (azimuth, elevation) pair") from None
     if not (math.isfinite(azimuth) and math.isfinite(elevation)):
         raise InputError(f"view {view!r}: azimuth and elevation must be finite")
-    return azimuth, elevation
+    return ViewAngles(azimuth, elevation)
 
 
-def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
-                 orthographic=False, margin=0.06) -> Camera:
+@positional_options("view")
+def frame_camera(V: ArrayLike, *, view: View = "three-quarter", size: tuple[int, int] = (800, 600),
+                 up: str = "y", fov: float = 30.0, orthographic: bool = False, margin: float = 0.06) -> Camera:
     """The camera that frames the vertices V from a view, as tightly as `margin` allows.
 
     V: (n, 3) float array. view: a name from :data:`VIEWS` or (azimuth, elevation) in degrees.
-    size: (width, height) of the picture (its aspect ratio matters). up: "y" or "z", the world
-    axis that points up. fov: vertical field of view in degrees (perspective). margin: free
+    size: (width, height) of the picture (its aspect ratio matters). up: the world axis that
+    points up: "y", "z", "x", "-x", "-y" or "-z". fov: vertical field of view in degrees (perspective). margin: free
     border on the tight side as a fraction of the picture size, in [0, 0.45).
     The perspective distance and the lateral offset are solved exactly so every vertex is in
     view and the silhouette is centred. Raises InputError for bad arguments.
@@ -108,33 +146,51 @@ def frame_camera(V, view="three-quarter", *, size=(800, 600), up="y", fov=30.0,
                   ortho_height=found["ortho_height"])
 
 
-def colormap(name: str, steps: int = 256) -> np.ndarray:
+def colormap(name: str, steps: int = 256) -> FloatArray:
     """(steps, 3) float array: sRGB colours in [0, 1] of colormap `name` (viridis, magma, coolwarm)."""
-    return _core.colormap_table(name, int(steps))
+    return _core.colormap_table(name, steps)
 
 
-def scalar_range(scalar, vertex_count: int, cmap: str = "viridis") -> tuple[float, float]:
+def scalar_range(scalar: ArrayLike, vertex_count: int, cmap: str | None = None) -> ScalarRange:
     """The default colouring range of a per-vertex field: its 2nd and 98th percentiles.
 
-    For a diverging colormap (coolwarm) and a field whose range contains zero, the range is made
+    For a diverging colormap (coolwarm; the default for a field that changes sign, see
+    :func:`default_colormap`) and a field whose range contains zero, the range is made
     symmetric, [-m, m], so zero is the neutral colour. scalar: (vertex_count,) finite floats.
     Raises InputError for a wrong length or a NaN/Inf (naming the first one).
     """
-    return _robust_range(scalar, vertex_count, cmap)
+    return _robust_range(scalar, vertex_count, default_colormap(scalar) if cmap is None else cmap)
 
 
-def _robust_range(scalar, vertex_count, cmap) -> tuple[float, float]:
+def default_colormap(scalar: ArrayLike) -> str:
+    """The colormap :func:`render` uses for a field when `cmap` is not given: "coolwarm"
+    (diverging, centred on 0) when the values change sign, else "viridis" (sequential)."""
+    values = _finite_scalar(scalar)
+    return "coolwarm" if values.size and values.min() < 0.0 < values.max() else "viridis"
+
+
+def clipped_ends(scalar: ArrayLike, low: float, high: float) -> tuple[bool, bool]:
+    """(some value < low, some value > high): which ends of the colour bar get an overflow arrow."""
+    values = _finite_scalar(scalar)
+    return bool(values.size and values.min() < low), bool(values.size and values.max() > high)
+
+
+def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRange:
     diverging = _core.colormap_is_diverging(cmap)
-    return tuple(_core.scalar_range(scalar, int(vertex_count), diverging))
+    low, high = _core.scalar_range(scalar, vertex_count, diverging)
+    return ScalarRange(float(low), float(high))
 
 
-def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None, columns=None,
-           camera: Camera | None = None, up="y", projection="perspective", fov=30.0,
-           scalar=None, cmap="viridis", scalar_range=None, scalar_label=None, colorbar=None,
-           wireframe=False, wireframe_width=1.0, uv=None, checker_size=None, flat=False,
-           crease_angle=60.0, lighting=True,
-           color=_FRONT_COLOR, back_color=_BACK_COLOR, title=None, background="gradient",
-           supersample=3) -> np.ndarray:
+def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),
+           view: View = "three-quarter", views: Sequence[View] | None = None, columns: int | None = None,
+           camera: Camera | None = None, up: str = "y", projection: str = "perspective", fov: float = 30.0,
+           scalar: ArrayLike | None = None, cmap: str | None = None, scalar_range: tuple[float, float] | None = None,
+           scalar_label: str | None = None, colorbar: bool | None = None,
+           wireframe: bool | Literal["auto"] = False, wireframe_width: float = 1.0, uv: ArrayLike | None = None,
+           checker_size: float | None = None, flat: bool = False, crease_angle: float = 60.0,
+           lighting: bool = True, color: Sequence[float] = _FRONT_COLOR, back_color: Sequence[float] = _BACK_COLOR,
+           title: str | None = None, background: Color | tuple[Color, Color] = "gradient",
+           supersample: int = 3) -> np.ndarray:
     """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
 
     V: (n, 3) float array of vertex positions. F: (m, 3) integer array of triangles.
@@ -146,15 +202,19 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         all in one row up to 3 views, else ceil(sqrt(k))); the picture is then exactly
         (columns * width, rows * height) and each panel is labelled with its view.
     camera: a :class:`Camera` to use instead of framing `view` automatically (single view only).
-    up: "y" or "z", the world axis that points up. projection: "perspective" or "orthographic".
+    up: the world axis that points up: "y" (default), "z", "x", "-x", "-y" or "-z".
+    projection: "perspective" or "orthographic".
     fov: vertical field of view in degrees of the perspective camera.
     scalar: (n,) float array, one finite value per vertex, interpolated per pixel and coloured
-        through `cmap` ("viridis", "magma" or "coolwarm").
+        through `cmap` ("viridis", "magma" or "coolwarm"; default: :func:`default_colormap`,
+        coolwarm centred on 0 when the values change sign, else viridis).
     scalar_range: (low, high) mapped onto the ends of the colormap; default: the 2nd and 98th
-        percentiles, symmetric about 0 for coolwarm when the values change sign.
+        percentiles, symmetric about 0 for coolwarm when the values change sign. Values
+        outside take the end colours.
     scalar_label: text above the colour bar. colorbar: draw the colour bar (default: when
         `scalar` is given and the picture is wide enough); it shows the low, middle and high
-        values of the range.
+        values of the range, and an overflow arrow (a triangle in the end colour) at each end
+        beyond which some values were clipped.
     wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
         them when there are few enough faces to read (#F <= width * height / 100).
         wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
@@ -187,22 +247,25 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         raise InputError("camera and several views are exclusive: give one or the other")
     if projection not in ("perspective", "orthographic"):
         raise InputError(f"unknown projection '{projection}': use 'perspective' or 'orthographic'")
+    if cmap is None:
+        cmap = "viridis" if scalar is None else default_colormap(scalar)
     if cmap not in COLORMAPS:
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
     if wireframe not in (True, False, "auto"):
         raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
-    if not isinstance(supersample, (int, np.integer)) or isinstance(supersample, bool):
-        raise InputError(f"supersample must be an integer from 1 to 4, got {supersample!r}")
+    supersample = _arguments.integer(supersample, "supersample", 1, 4)
     gradient, transparent = _background(background)
     n_vertices, n_faces = _validated_counts(V, F)
 
     low = high = None
+    clipped = (False, False)
     colorbar_requested = bool(colorbar)
     if scalar is not None:
         if scalar_range is None:
             low, high = _robust_range(scalar, n_vertices, cmap)
         else:
             low, high = _check_range(scalar_range)
+        clipped = clipped_ends(scalar, low, high)
         if colorbar is None:
             colorbar = True
     colorbar = bool(colorbar) and scalar is not None
@@ -210,9 +273,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     count = len(view_list)
     if columns is None:
         columns = count if count <= 3 else math.ceil(math.sqrt(count))
-    if not isinstance(columns, (int, np.integer)) or columns < 1:
-        raise InputError(f"columns must be a positive integer, got {columns!r}")
-    columns = min(int(columns), count)
+    columns = min(_arguments.integer(columns, "columns", 1, _core.max_image_side), count)
     rows = math.ceil(count / columns)
     total_width, total_height = columns * width, rows * height
 
@@ -230,7 +291,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
     if wireframe == "auto":
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
-        width=0, height=0, supersample=int(supersample), smooth_shading=not flat,
+        width=0, height=0, supersample=supersample, smooth_shading=not flat,
         crease_angle_deg=float(crease_angle),
         lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
@@ -247,7 +308,7 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
         y1 = title_height + (row + 1) * grid_height // rows
         panel_width, panel_height = x1 - x0, y1 - y0
         cam = camera if camera is not None else frame_camera(
-            V, (azimuth, elevation), size=(panel_width, panel_height), up=up, fov=fov,
+            V, view=(azimuth, elevation), size=(panel_width, panel_height), up=up, fov=fov,
             orthographic=projection == "orthographic")
         top = _gradient_at(gradient, y0, total_height)
         bottom = _gradient_at(gradient, y1 - 1, total_height)
@@ -262,16 +323,18 @@ def render(V, F, path=None, *, size=(800, 600), view="three-quarter", views=None
 
     if title or colorbar or labels:
         canvas = _annotate(canvas, title=title, title_height=title_height, labels=labels,
-                           colorbar=(cmap, low, high, scalar_label, bar_width) if colorbar else None,
+                           colorbar=(cmap, low, high, scalar_label, bar_width, clipped) if colorbar else None,
                            transparent=transparent)
     if path is not None:
         save_png(canvas, path)
     return canvas
 
 
-def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="viridis",
-                     scalar_range=None, scalar_label=None, title=None, background="white",
-                     supersample=3) -> np.ndarray:
+def render_uv_layout(UV: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 800),
+                     scalar: ArrayLike | None = None, cmap: str | None = None,
+                     scalar_range: tuple[float, float] | None = None, scalar_label: str | None = None,
+                     title: str | None = None, background: Color | tuple[Color, Color] = "white",
+                     supersample: int = 3) -> np.ndarray:
     """Draw a 2D parametrization: the triangles of F laid out at their texture coordinates.
 
     UV: (n, 2) float array of per-vertex texture coordinates. F: (m, 3) integer triangles.
@@ -290,8 +353,11 @@ def render_uv_layout(UV, F, path=None, *, size=(800, 800), scalar=None, cmap="vi
                   supersample=supersample)
 
 
-def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygons=None,
-                highlight=None, size=(800, 800), title=None, supersample=3) -> np.ndarray:
+def plot_planar(path: PathLike | None = None, *, points: ArrayLike | None = None,
+                triangles: tuple[ArrayLike, ArrayLike] | None = None,
+                segments: tuple[ArrayLike, ArrayLike] | None = None, polygons: Sequence[FloatArray] | None = None,
+                highlight: ArrayLike | None = None, size: tuple[int, int] = (800, 800), title: str | None = None,
+                supersample: int = 3) -> np.ndarray:
     """Draw planar (2D) geometry: triangulations, curves, cells and points, for the tessellation
     chapter's pictures.
 
@@ -305,30 +371,33 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     """
     Image, ImageDraw, _ = _pillow()
     width, height = _check_size(size)
-    scale_factor = int(supersample)
-    if scale_factor < 1:
-        raise InputError(f"supersample = {supersample}: expected an integer >= 1")
+    scale_factor = _arguments.integer(supersample, "supersample", 1, 4)
 
-    def planar(array, name, columns=2):
-        array = np.asarray(array, dtype=float)
-        if array.ndim != 2 or array.shape[1] != columns:
-            raise InputError(f"{name} has shape {array.shape}: expected (n, {columns})")
-        if not np.isfinite(array).all():
-            raise InputError(f"{name} holds NaN or Inf")
-        return array
+    def planar(array: ArrayLike, name: str) -> FloatArray:
+        return _arguments.finite(_arguments.real_array(array, name, 2), name)
+
+    def pair(value: Any, name: str) -> tuple[Any, Any]:
+        try:
+            first, second = value
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be a pair (points, indices), got {type(value).__name__}") from None
+        return first, second
 
     layers = []
     if triangles is not None:
-        TV, TF = planar(triangles[0], "triangles vertices"), np.asarray(triangles[1], dtype=np.int64)
-        if TF.ndim != 2 or TF.shape[1] != 3 or (TF.size and (TF.min() < 0 or TF.max() >= len(TV))):
+        TV, TF = pair(triangles, "triangles")
+        TV, TF = planar(TV, "triangles vertices"), _arguments.index_array(TF, "triangles faces", 3)
+        if TF.size and (TF.min() < 0 or TF.max() >= len(TV)):
             raise InputError("triangles faces must be (m, 3) indices into the triangle vertices")
         layers.append(TV)
     if segments is not None:
-        SP, SE = planar(segments[0], "segment points"), np.asarray(segments[1], dtype=np.int64)
-        if SE.ndim != 2 or SE.shape[1] != 2 or (SE.size and (SE.min() < 0 or SE.max() >= len(SP))):
+        SP, SE = pair(segments, "segments")
+        SP, SE = planar(SP, "segment points"), _arguments.index_array(SE, "segments edges", 2)
+        if SE.size and (SE.min() < 0 or SE.max() >= len(SP)):
             raise InputError("segments edges must be (e, 2) indices into the segment points")
         layers.append(SP[np.unique(SE)] if SE.size else SP[:0])
-    cells = [planar(cell, f"polygons[{i}]") for i, cell in enumerate(polygons or []) if len(cell)]
+    cells = [planar(cell, f"polygons[{i}]") for i, cell in enumerate([] if polygons is None else polygons)
+             if not (isinstance(cell, (list, tuple, np.ndarray)) and len(cell) == 0)]  # empty cells: nothing
     layers.extend(cells)
     if points is not None:
         points = planar(points, "points")
@@ -348,7 +417,7 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     scale = float(np.min(usable / extent))
     offset = np.array([margin, title_height + margin]) + 0.5 * (usable - extent * scale)
 
-    def to_pixels(xy):
+    def to_pixels(xy: FloatArray) -> FloatArray:
         pixel = (xy - low) * scale + offset
         pixel[:, 1] = height - pixel[:, 1] + title_height  # y up
         return pixel * scale_factor
@@ -388,8 +457,17 @@ def plot_planar(path=None, *, points=None, triangles=None, segments=None, polygo
     return canvas
 
 
-def parametrization_picture(path, result, title: str) -> None:
-    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard."""
+def parametrization_picture(result: Parametrization, path: PathLike, title: str) -> None:
+    """One PNG: the UV layout (coloured by angle distortion) beside the surface under a checkerboard.
+
+    result: a :class:`meshsmith.parametrization.Parametrization`; path: the PNG to write; title:
+    drawn over the surface. The 0.1 order ``(path, result, title)`` still works, with a
+    DeprecationWarning.
+    """
+    if isinstance(result, (str, os.PathLike)):
+        warnings.warn("parametrization_picture(): pass the result first, then the path (since meshsmith 0.2.0)",
+                      DeprecationWarning, stacklevel=2)
+        result, path = path, result  # type: ignore[assignment]
     corners = result.uv[result.F]  # per corner, so seams cut by cut_to_disk show in the texture
     V, F = (result.cut.V, result.F) if result.cut is not None else (result.V, result.F)
     uv = np.where(np.isnan(result.uv), corners[0, 0], result.uv)  # unreferenced vertices' NaN rows: out of the way
@@ -404,18 +482,22 @@ def parametrization_picture(path, result, title: str) -> None:
 
 # ---- helpers ----------------------------------------------------------------------------------
 
-def _check_size(size) -> tuple[int, int]:
+def _check_size(size: Any) -> tuple[int, int]:
     try:
         width, height = size
-        valid = all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in size)
     except (TypeError, ValueError):
-        valid = False
-    if not valid or width <= 0 or height <= 0:
-        raise InputError(f"size must be (width, height) with positive integers, got {size!r}")
-    return int(width), int(height)
+        raise InputError(f"size must be (width, height) with positive integers, got {size!r}") from None
+    return (_arguments.integer(width, "size[0] (width)", 1, _core.max_image_side),
+            _arguments.integer(height, "size[1] (height)", 1, _core.max_image_side))
 
 
-def _check_range(value) -> tuple[float, float]:
+def _finite_scalar(scalar: ArrayLike) -> np.ndarray:
+    """The finite values of a (n,) scalar, for choosing the colormap (the core checks it fully later)."""
+    values = _arguments.real_array(scalar, "scalar")
+    return values[np.isfinite(values)]
+
+
+def _check_range(value: Any) -> tuple[float, float]:
     try:
         low, high = (float(v) for v in value)
     except (TypeError, ValueError):
@@ -425,14 +507,14 @@ def _check_range(value) -> tuple[float, float]:
     return low, high
 
 
-def _validated_counts(V, F) -> tuple[int, int]:
+def _validated_counts(V: Any, F: Any) -> tuple[int, int]:
     """(#V, #F) after the core's checks of the mesh (dtype, shape, NaN/Inf, index range)."""
     from ._core import core as _core_checks
     _core_checks.validate_mesh(V, F)
     return len(V), len(F)
 
 
-def _unit_color(value, name) -> tuple[float, float, float]:
+def _unit_color(value: Any, name: str) -> tuple[float, ...]:
     try:
         rgb = tuple(float(c) for c in value)
     except (TypeError, ValueError):
@@ -442,8 +524,9 @@ def _unit_color(value, name) -> tuple[float, float, float]:
     return rgb
 
 
-def _parse_color(value) -> tuple[float, float, float]:
+def _parse_color(value: Any) -> tuple[float, ...]:
     """A colour name, '#rrggbb', or a triple of 0-255 ints / 0-1 floats → sRGB in [0, 1]."""
+    rgb: tuple[Any, ...]
     if isinstance(value, str):
         named = {"white": (255, 255, 255), "black": (0, 0, 0)}
         if value in named:
@@ -473,7 +556,7 @@ def _parse_color(value) -> tuple[float, float, float]:
     return rgb
 
 
-def _background(background):
+def _background(background: Any) -> tuple[tuple[Any, Any], bool]:
     """(gradient (top, bottom) in [0, 1], transparent?) for the `background` argument."""
     if isinstance(background, str) and background == "gradient":
         return _GRADIENT, False
@@ -486,13 +569,13 @@ def _background(background):
     return (color, color), False
 
 
-def _gradient_at(gradient, row: int, total_rows: int) -> tuple[float, float, float]:
+def _gradient_at(gradient: Any, row: int, total_rows: int) -> tuple[float, ...]:
     t = row / (total_rows - 1) if total_rows > 1 else 0.0
     top, bottom = np.asarray(gradient[0]), np.asarray(gradient[1])
     return tuple(float(c) for c in (1.0 - t) * top + t * bottom)
 
 
-def _background_canvas(width, height, gradient, transparent) -> np.ndarray:
+def _background_canvas(width: int, height: int, gradient: Any, transparent: bool) -> np.ndarray:
     if transparent:
         return np.zeros((height, width, 4), dtype=np.uint8)
     t = np.linspace(0.0, 1.0, height)[:, None] if height > 1 else np.zeros((1, 1))
@@ -505,7 +588,7 @@ _PILLOW_MISSING = ("meshsmith.render needs Pillow for PNG files, titles and colo
                    "pip install 'meshsmith[viz]' (or pip install pillow)")
 
 
-def _pillow():
+def _pillow() -> tuple[Any, Any, Any]:
     try:
         from PIL import Image, ImageDraw, ImageFont
     except ImportError:
@@ -513,7 +596,7 @@ def _pillow():
     return Image, ImageDraw, ImageFont
 
 
-def _font(size: int):
+def _font(size: int) -> Any:
     _, _, ImageFont = _pillow()
     for name in ("DejaVuSans.ttf", "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
                  "Arial.ttf", "LiberationSans-Regular.ttf"):
@@ -542,7 +625,8 @@ def _format_ticks(values: Sequence[float]) -> list[str]:
     return ["0" if v == 0.0 else f"{v:.{min(digits, 6)}f}" for v in values]
 
 
-def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> np.ndarray:
+def _annotate(canvas: np.ndarray, *, title: str | None, title_height: int, labels: list[Any], colorbar: Any,
+              transparent: bool) -> np.ndarray:
     """Title, view labels and the colour bar, drawn with Pillow."""
     Image, ImageDraw, _ = _pillow()
     image = Image.fromarray(canvas, "RGBA" if transparent else "RGB")
@@ -559,22 +643,46 @@ def _annotate(canvas, *, title, title_height, labels, colorbar, transparent) -> 
             text = name if isinstance(name, str) else f"az {name[0]:g}°, el {name[1]:g}°"
             draw.text((x + 8, y + 6), text, fill=text_fill, font=font)
     if colorbar is not None:
-        cmap, low, high, label, bar_width = colorbar
-        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill)
+        cmap, low, high, label, bar_width, clipped = colorbar
+        _draw_colorbar(image, draw, cmap, low, high, label, bar_width, title_height, text_fill, clipped)
     return np.asarray(image).copy()
 
 
-def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill):
+@dataclass(frozen=True)
+class _ColorbarLayout:
+    """Where the colour bar goes in a picture: the bar's left x, top y, thickness and height in
+    pixels, the height of the overflow arrows drawn above and below it, and the font size."""
+
+    x: int
+    y: int
+    thickness: int
+    height: int
+    arrow: int
+    font_size: int
+
+
+def _colorbar_layout(width: int, height: int, bar_width: int, top_offset: int) -> _ColorbarLayout:
+    """The colour bar's place in a (width, height) picture whose rightmost `bar_width` columns
+    below `top_offset` (the title band) hold it."""
+    strip_x = width - bar_width
+    available = height - top_offset
+    thickness = max(10, min(22, bar_width // 5))
+    arrow = max(6, thickness * 3 // 4)
+    bar_height = max(10, int(available * 0.62) - 2 * arrow)
+    font_size = max(10, min(16, bar_width // 6, available // 22))
+    x = strip_x + max(6, bar_width // 8)
+    y = top_offset + (available - bar_height) // 2 + font_size // 2
+    return _ColorbarLayout(x, y, thickness, bar_height, arrow, font_size)
+
+
+def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, text_fill, clipped):
     Image, _, _ = _pillow()
     width, height = image.size
     strip_x = width - bar_width
-    available = height - top_offset
-    bar_height = max(10, int(available * 0.62))
-    bar_thickness = max(10, min(22, bar_width // 5))
-    font_size = max(10, min(16, bar_width // 6, available // 22))
+    layout = _colorbar_layout(width, height, bar_width, top_offset)
+    bar_x, bar_y, bar_thickness, bar_height = layout.x, layout.y, layout.thickness, layout.height
+    font_size = layout.font_size
     font = _font(font_size)
-    bar_x = strip_x + max(6, bar_width // 8)
-    bar_y = top_offset + (available - bar_height) // 2 + font_size // 2
     table = colormap(cmap, bar_height)[::-1]  # high values on top
     pixels = np.clip(np.rint(table * 255.0), 0, 255).astype(np.uint8)
     bar = np.broadcast_to(pixels[:, None, :], (bar_height, bar_thickness, 3))
@@ -583,6 +691,19 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
     image.paste(bar_image, (bar_x, bar_y))
     outline = (90, 94, 102) + ((255,) if mode == "RGBA" else ())
     draw.rectangle([bar_x - 1, bar_y - 1, bar_x + bar_thickness, bar_y + bar_height], outline=outline)
+    # Overflow arrows: a triangle in the end colour where values beyond the range were clipped.
+    alpha = (255,) if mode == "RGBA" else ()
+    below, above = clipped
+    if above:
+        top = bar_y - 2
+        draw.polygon([(bar_x - 1, top), (bar_x + bar_thickness, top),
+                      ((2 * bar_x + bar_thickness - 1) / 2, top - layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[0]) + alpha, outline=outline)
+    if below:
+        bottom = bar_y + bar_height + 1
+        draw.polygon([(bar_x - 1, bottom), (bar_x + bar_thickness, bottom),
+                      ((2 * bar_x + bar_thickness - 1) / 2, bottom + layout.arrow)],
+                     fill=tuple(int(c) for c in pixels[-1]) + alpha, outline=outline)
     values = [high, (low + high) / 2.0, low]
     positions = [bar_y, bar_y + bar_height // 2, bar_y + bar_height - 1]
     for text, y in zip(_format_ticks(values), positions):
@@ -599,16 +720,24 @@ def _draw_colorbar(image, draw, cmap, low, high, label, bar_width, top_offset, t
         if draw.textlength(str(label), font=label_font) > room:
             lines = str(label).split()
         for k, line in enumerate(reversed(lines)):
-            draw.text((strip_x + bar_width // 2, bar_y - font_size // 2 - 6 - k * (size + 3)), line,
+            draw.text((strip_x + bar_width // 2, bar_y - layout.arrow - font_size // 2 - 6 - k * (size + 3)), line,
                       fill=text_fill, font=label_font, anchor="ms")
 
 
-def save_png(canvas: np.ndarray, path) -> None:
+def save_png(canvas: np.ndarray, path: PathLike) -> None:
     """Write an (h, w, 3|4) uint8 canvas (as returned by `render`/`render_uv_layout` with no path) to a PNG.
 
-    Raises InputError when the folder does not exist."""
+    Raises InputError for a canvas that is not such an array, a file name that does not end in
+    .png, or when the folder does not exist."""
+    if not (isinstance(canvas, np.ndarray) and canvas.dtype == np.uint8 and canvas.ndim == 3
+            and canvas.shape[2] in (3, 4) and canvas.size):
+        shape = getattr(canvas, "shape", None)
+        raise InputError(f"canvas must be a non-empty (height, width, 3 or 4) uint8 array (a picture from render), "
+                         f"got {type(canvas).__name__}" + (f" {canvas.dtype} {shape}" if shape is not None else ""))
     Image, _, _ = _pillow()
     path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise InputError(f"cannot write {path}: pictures are written as PNG; name the file .png")
     if path.parent and not path.parent.exists():
         raise InputError(f"cannot write {path}: folder {path.parent} does not exist")
     Image.fromarray(canvas, "RGBA" if canvas.shape[2] == 4 else "RGB").save(path, optimize=False)

@@ -22,21 +22,25 @@ inputs are checked by the C++ core; bad input raises :class:`meshsmith.InputErro
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, Literal, NamedTuple, overload
 
 import numpy as np
 
 from ._core import core as _core
 from ._core import geometry as _geometry
 from ._core import topology as _topology
+from ._deprecation import positional_options
+from ._results import Unpackable
+from ._typing import ArrayLike, FloatArray, IndexArray
 
 __all__ = [
     "edges", "boundary_loops", "connected_components", "ConnectedComponents",
     "euler_characteristic", "genus", "non_manifold_edges", "non_manifold_vertices",
-    "is_manifold", "is_oriented", "split_non_manifold_vertices", "info", "MeshInfo",
+    "is_manifold", "is_oriented", "split_non_manifold_vertices", "SplitMesh", "info", "MeshInfo",
 ]
 
 
-def edges(F) -> np.ndarray:
+def edges(F: ArrayLike) -> IndexArray:
     """Unique undirected edges of a triangle mesh.
 
     F: (m, 3) integer array of triangles. Returns an (e, 2) int64 array of edges ``(i, j)`` with
@@ -46,7 +50,7 @@ def edges(F) -> np.ndarray:
     return _topology.edges(F)
 
 
-def boundary_loops(F) -> list[np.ndarray]:
+def boundary_loops(F: ArrayLike) -> list[IndexArray]:
     """All boundary loops, longest first (ties: smaller first vertex first).
 
     F: (m, 3) integer array of triangles. Returns a list of int64 arrays of vertex indices. Each
@@ -59,15 +63,19 @@ def boundary_loops(F) -> list[np.ndarray]:
 
 
 @dataclass(frozen=True)
-class ConnectedComponents:
-    """Connected components of a mesh, numbered in the order of their first face."""
+class ConnectedComponents(Unpackable):
+    """Connected components of a mesh, numbered in the order of their first face.
+
+    Unpacks as ``count, face_labels, vertex_labels``.
+    """
 
     count: int                  # number of components
-    face_labels: np.ndarray     # (m,) int64, component of each face
-    vertex_labels: np.ndarray   # (n,) int64, component of each vertex, -1 if no face uses it
+    face_labels: IndexArray     # (m,) int64, component of each face
+    vertex_labels: IndexArray   # (n,) int64, component of each vertex, -1 if no face uses it
 
 
-def connected_components(F, n_vertices: int | None = None,
+@positional_options("connectivity")
+def connected_components(F: ArrayLike, n_vertices: int | None = None, *,
                          connectivity: str = "vertex") -> ConnectedComponents:
     """Connected components of a mesh.
 
@@ -84,7 +92,7 @@ def connected_components(F, n_vertices: int | None = None,
     return ConnectedComponents(int(count), face_labels, vertex_labels)
 
 
-def euler_characteristic(V_or_F, F=None) -> int:
+def euler_characteristic(V_or_F: ArrayLike, F: ArrayLike | None = None) -> int:
     """Euler characteristic χ = V − E + F, V counting only the vertices some face uses.
 
     Call as ``euler_characteristic(F)`` or ``euler_characteristic(V, F)`` (V is then validated but
@@ -97,7 +105,14 @@ def euler_characteristic(V_or_F, F=None) -> int:
     return int(_topology.euler_characteristic(F))
 
 
-def genus(F, per_component: bool = False):
+@overload
+def genus(F: ArrayLike, *, per_component: Literal[False] = ...) -> int: ...
+@overload
+def genus(F: ArrayLike, *, per_component: Literal[True]) -> IndexArray: ...
+@overload
+def genus(F: ArrayLike, *, per_component: bool) -> int | IndexArray: ...
+@positional_options("per_component")
+def genus(F: ArrayLike, *, per_component: bool = False) -> int | IndexArray:
     """Genus of an orientable manifold mesh, from χ = 2 − 2g − b per connected component.
 
     F: (m, 3) integer array of triangles. Returns the sum of the components' genera (the genus of
@@ -111,12 +126,12 @@ def genus(F, per_component: bool = False):
     return genera if per_component else int(genera.sum())
 
 
-def non_manifold_edges(F) -> np.ndarray:
+def non_manifold_edges(F: ArrayLike) -> IndexArray:
     """Edges with more than two incident faces, as an (k, 2) int64 array (i < j, sorted)."""
     return _topology.non_manifold_edges(F)
 
 
-def non_manifold_vertices(F) -> np.ndarray:
+def non_manifold_vertices(F: ArrayLike) -> IndexArray:
     """Non-manifold vertices (more than one fan of faces, or on a non-manifold edge), ascending.
 
     F: (m, 3) integer array. Returns a (k,) int64 array. Raises InputError for bad F.
@@ -124,12 +139,12 @@ def non_manifold_vertices(F) -> np.ndarray:
     return _topology.non_manifold_vertices(F)
 
 
-def is_manifold(F) -> bool:
+def is_manifold(F: ArrayLike) -> bool:
     """True when F has no non-manifold edge and no non-manifold vertex."""
     return bool(_topology.is_manifold(F))
 
 
-def is_oriented(F) -> bool:
+def is_oriented(F: ArrayLike) -> bool:
     """True when every edge with exactly two faces is used once in each direction.
 
     Boundary and non-manifold edges are not considered.
@@ -137,7 +152,15 @@ def is_oriented(F) -> bool:
     return bool(_topology.is_oriented(F))
 
 
-def split_non_manifold_vertices(V, F) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+class SplitMesh(NamedTuple):
+    """Result of :func:`split_non_manifold_vertices`; unpacks as ``V2, F2, origin``."""
+
+    V: FloatArray          #: (n2, 3) positions, V2 == V[origin]
+    F: IndexArray          #: (m, 3) faces on the split vertices
+    vertex_origin: IndexArray  #: (n2,) the input vertex of each output vertex
+
+
+def split_non_manifold_vertices(V: ArrayLike, F: ArrayLike) -> SplitMesh:
     """Make a mesh manifold by duplicating vertices, without moving any point.
 
     Each vertex gets one copy per fan of faces around it, so pinch vertices come apart; since
@@ -145,16 +168,17 @@ def split_non_manifold_vertices(V, F) -> tuple[np.ndarray, np.ndarray, np.ndarra
     detached too, and the result :func:`is_manifold`. Vertex i < len(V) keeps its index (its first
     fan keeps it), extra copies are appended; faces keep their order; unreferenced vertices stay.
 
-    V: (n, 3) float array, F: (m, 3) integer array. Returns ``(V2, F2, origin)``: V2 (n2, 3)
+    V: (n, 3) float array, F: (m, 3) integer array. Returns a :class:`SplitMesh`
+    ``(V2, F2, origin)``: V2 (n2, 3)
     float64 with ``V2 == V[origin]``, F2 (m, 3) int64, origin (n2,) int64.
     Raises InputError for bad input.
     """
-    return _topology.split_non_manifold_vertices(V, F)
+    return SplitMesh(*_topology.split_non_manifold_vertices(V, F))
 
 
 @dataclass(frozen=True)
-class MeshInfo:
-    """Summary of a mesh, as printed by ``meshsmith info``."""
+class MeshInfo(Unpackable):
+    """Summary of a mesh, as printed by ``meshsmith info``; unpacks in field order."""
 
     n_vertices: int
     n_faces: int
@@ -169,24 +193,24 @@ class MeshInfo:
     n_non_manifold_edges: int
     n_non_manifold_vertices: int
     n_unreferenced_vertices: int
-    bounding_box: tuple[np.ndarray, np.ndarray]  # (min, max), each (3,) over all vertices
+    bounding_box: tuple[FloatArray, FloatArray]  # (min, max), each (3,) over all vertices
     surface_area: float
     volume: float                   # signed; meaningful for closed oriented meshes
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, Any]:
         """The figures as plain Python values (JSON-ready): the bounding box as two lists."""
         figures = {name: getattr(self, name) for name in self.__dataclass_fields__}
         figures["bounding_box"] = [np.asarray(corner).tolist() for corner in self.bounding_box]
         return figures
 
     def __str__(self) -> str:
-        def count(value):
+        def count(value: int) -> str:
             return f"{value:,}"
 
-        def amount(value, singular, plural):
+        def amount(value: int, singular: str, plural: str) -> str:
             return f"{value:,} {singular if value == 1 else plural}"
 
-        def point(p):
+        def point(p: FloatArray) -> str:
             return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
         lo, hi = self.bounding_box
@@ -215,7 +239,7 @@ class MeshInfo:
         return "\n".join(f"{name:<{width}}  {value}" for name, value in rows)
 
 
-def info(V, F) -> MeshInfo:
+def info(V: ArrayLike, F: ArrayLike) -> MeshInfo:
     """Topological and geometric summary of a mesh (see :class:`MeshInfo`; ``str()`` it to print).
 
     V: (n, 3) float array, F: (m, 3) integer array. Runs in O(m log m).

@@ -115,7 +115,7 @@ void check_finite(const Eigen::Vector3d& p, Eigen::Index k) {
 }  // namespace
 
 ProgressiveMesh::ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::vector<VertexSplit> splits,
-                                 std::vector<int> input_vertex_ids)
+                                 std::vector<int> input_vertex_ids, const Progress& progress)
     : base_V_(std::move(base_V)), base_F_(std::move(base_F)), splits_(std::move(splits)),
       input_vertex_id_(std::move(input_vertex_ids)) {
   validate_mesh(base_V_, base_F_);
@@ -159,6 +159,7 @@ ProgressiveMesh::ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::ve
   legality_offsets_.assign(1, 0);
   std::vector<int> star_dependencies;
   for (Eigen::Index k = 0; k < n_splits; ++k) {
+    progress.report(static_cast<double>(k) / static_cast<double>(n_splits), "progressive mesh: checking the splits");
     const VertexSplit& s = splits_[k];
     const int removed = static_cast<int>(n_base + k);
     const auto active = [&](int v) { return v >= 0 && v < removed; };
@@ -395,7 +396,8 @@ Mesh ProgressiveMesh::selective_refinement(const std::vector<char>& selected_inp
 }
 
 ProgressiveMesh progressive_mesh_from_collapses(const VertexRef& V, const FaceRef& F,
-                                                const std::vector<CollapseRecord>& collapses) {
+                                                const std::vector<CollapseRecord>& collapses,
+                                                const Progress& progress) {
   validate_mesh(V, F);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     if (F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2))
@@ -411,6 +413,8 @@ ProgressiveMesh progressive_mesh_from_collapses(const VertexRef& V, const FaceRe
   std::vector<VertexSplit> reversed;  // in collapse order, input numbering
   reversed.reserve(collapses.size());
   for (std::size_t r = 0; r < collapses.size(); ++r) {
+    progress.report(0.5 * static_cast<double>(r) / static_cast<double>(collapses.size()),
+                    "progressive mesh: vertex splits");
     const CollapseRecord& c = collapses[r];
     const auto alive = [&](int v) { return v >= 0 && v < n_vertices && vertex_alive[v]; };
     const std::string name = "collapse " + std::to_string(r);
@@ -474,7 +478,8 @@ ProgressiveMesh progressive_mesh_from_collapses(const VertexRef& V, const FaceRe
   std::vector<VertexSplit> splits(reversed.rbegin(), reversed.rend());
   const auto pm = [&](int v) { return v >= 0 ? pm_of_input[v] : -1; };
   for (VertexSplit& s : splits) s.kept = pm(s.kept), s.left = pm(s.left), s.right = pm(s.right);
-  return ProgressiveMesh(std::move(base_V), std::move(base_F), std::move(splits), std::move(input_of_pm));
+  return ProgressiveMesh(std::move(base_V), std::move(base_F), std::move(splits), std::move(input_of_pm),
+                         progress.subrange(0.5, 1.0));
 }
 
 ProgressiveMesh progressive_mesh(const VertexRef& V, const FaceRef& F, QemOptions options, const Progress& progress) {
@@ -485,7 +490,7 @@ ProgressiveMesh progressive_mesh(const VertexRef& V, const FaceRef& F, QemOption
     throw InputError("progressive mesh: the input is not manifold or not consistently oriented (the decimator "
                      "had to split vertices); run topology.split_non_manifold_vertices / repair first");
   progress.report(0.9, "progressive mesh: vertex splits");
-  ProgressiveMesh mesh = progressive_mesh_from_collapses(V, F, result.collapses);
+  ProgressiveMesh mesh = progressive_mesh_from_collapses(V, F, result.collapses, progress.subrange(0.9, 1.0));
   progress.report(1.0, "progressive mesh: vertex splits");
   return mesh;
 }

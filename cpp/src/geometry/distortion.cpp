@@ -167,8 +167,12 @@ TriangleDistortion triangle_distortion(const VertexRef& input_V, const FaceRef& 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double global_l2 = total_surface > 0.0 ? std::sqrt(weighted_stretch / total_surface) : nan;
   out.global_stretch_l2 = to_jacobian_units(global_l2);
-  // Scale-invariant: the same in normalized and input units.
-  out.normalized_global_stretch_l2 = total_surface > 0.0 ? global_l2 * std::sqrt(total_parameter / total_surface) : nan;
+  // Scale-invariant: the same in normalized and input units. A map whose UV triangles all have
+  // zero area cannot be scaled to the surface's area: its stretch is infinite at every scale
+  // (not inf * 0 = NaN).
+  const double inf = std::numeric_limits<double>::infinity();
+  out.normalized_global_stretch_l2 =
+      !(total_surface > 0.0) ? nan : total_parameter > 0.0 ? global_l2 * std::sqrt(total_parameter / total_surface) : inf;
   out.global_stretch_linf = total_surface > 0.0 ? max_stretch : nan;
 
   const Eigen::Index n = V.rows();

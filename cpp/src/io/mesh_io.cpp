@@ -63,11 +63,43 @@ void check_corner_indices(const std::string& path, const PolygonMesh& mesh,
   }
 }
 
-/// Everything a writer relies on: finite values, a well-formed offset array, indices in range.
+/// \throw InputError unless `colors` is empty or has `rows` rows of 3 or 4 values in [0, 1].
+void check_colors(const std::string& path, const ColorMatrix& colors, const char* name,
+                  Eigen::Index rows, const char* what) {
+  if (colors.rows() == 0) return;
+  if (colors.rows() != rows || (colors.cols() != 3 && colors.cols() != 4))
+    throw InputError(path + ": cannot write: " + name + " has shape (" +
+                     std::to_string(colors.rows()) + ", " + std::to_string(colors.cols()) +
+                     "); expected (" + std::to_string(rows) + ", 3) or (" + std::to_string(rows) +
+                     ", 4), one RGB or RGBA row per " + std::string(what).substr(0, std::strlen(what) - 1));
+  for (Eigen::Index r = 0; r < colors.rows(); ++r)
+    for (Eigen::Index c = 0; c < colors.cols(); ++c)
+      if (!(colors(r, c) >= 0.0 && colors(r, c) <= 1.0))
+        throw InputError(path + ": cannot write: " + name + " row " + std::to_string(r) +
+                         " holds " + std::to_string(colors(r, c)) +
+                         " (colour components are in [0, 1])");
+}
+
+const char* format_name(Format format) {
+  switch (format) {
+    case Format::obj: return "OBJ";
+    case Format::off: return "OFF";
+    case Format::ply: return "PLY";
+    case Format::stl: return "STL";
+    case Format::xyz: return "XYZ";
+    case Format::glb: return "GLB";
+    default: return "automatic";
+  }
+}
+
+}  // namespace
+
 void check_writable(const std::string& path, const PolygonMesh& mesh) {
   check_finite(path, mesh.V, "V");
   check_finite(path, mesh.UV, "UV");
   check_finite(path, mesh.N, "N");
+  check_colors(path, mesh.colors, "colors", mesh.V.rows(), "vertices");
+  check_colors(path, mesh.face_colors, "face_colors", mesh.face_count(), "faces");
   const auto& offsets = mesh.face_offsets;
   if (offsets.empty() || offsets.front() != 0)
     throw InputError(path + ": cannot write: face offsets must start at 0");
@@ -81,6 +113,15 @@ void check_writable(const std::string& path, const PolygonMesh& mesh) {
                      std::to_string(offsets.back()) + " but there are " +
                      std::to_string(mesh.face_vertices.size()) + " corner indices");
   check_corner_indices(path, mesh, mesh.face_vertices, mesh.V.rows(), "vertex", false);
+  // Normals or UVs without corner indices are per vertex: one row per vertex.
+  if (mesh.N.rows() > 0 && mesh.face_normals.empty() && mesh.N.rows() != mesh.V.rows())
+    throw InputError(path + ": cannot write: N has " + std::to_string(mesh.N.rows()) +
+                     " rows and no corner indices (F_normal), but there are " +
+                     std::to_string(mesh.V.rows()) + " vertices");
+  if (mesh.UV.rows() > 0 && mesh.face_uvs.empty() && mesh.UV.rows() != mesh.V.rows())
+    throw InputError(path + ": cannot write: UV has " + std::to_string(mesh.UV.rows()) +
+                     " rows and no corner indices (F_uv), but there are " +
+                     std::to_string(mesh.V.rows()) + " vertices");
   if (!mesh.face_uvs.empty()) {
     if (mesh.face_uvs.size() != mesh.face_vertices.size())
       throw InputError(path + ": cannot write: F_uv must have one index per face corner");
@@ -92,19 +133,6 @@ void check_writable(const std::string& path, const PolygonMesh& mesh) {
     check_corner_indices(path, mesh, mesh.face_normals, mesh.N.rows(), "normal", true);
   }
 }
-
-const char* format_name(Format format) {
-  switch (format) {
-    case Format::obj: return "OBJ";
-    case Format::off: return "OFF";
-    case Format::ply: return "PLY";
-    case Format::stl: return "STL";
-    case Format::xyz: return "XYZ";
-    default: return "automatic";
-  }
-}
-
-}  // namespace
 
 FileContents read_file_contents(const std::string& path) {
   namespace fs = std::filesystem;
@@ -158,7 +186,8 @@ Format format_from_name(const std::string& name) {
   if (lower == "ply") return Format::ply;
   if (lower == "stl") return Format::stl;
   if (lower == "xyz") return Format::xyz;
-  throw InputError("unknown file format '" + name + "' (expected obj, off, ply, stl or xyz)");
+  if (lower == "glb") return Format::glb;
+  throw InputError("unknown file format '" + name + "' (expected obj, off, ply, stl, glb or xyz)");
 }
 
 Format resolve_format(const std::string& path, Format requested) {
@@ -170,7 +199,7 @@ Format resolve_format(const std::string& path, Format requested) {
     return format_from_name(extension.substr(1));
   } catch (const InputError&) {
     throw InputError(path + ": unknown file extension '" + extension +
-                     "' (expected .obj, .off, .ply, .stl or .xyz, or pass format=...)");
+                     "' (expected .obj, .off, .ply, .stl, .glb or .xyz, or pass format=...)");
   }
 }
 
@@ -196,6 +225,8 @@ PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
   const Format format = resolve_format(path, options.format);
   if (format == Format::xyz)
     throw InputError(path + ": XYZ files hold point clouds, not meshes (use read_points)");
+  if (format == Format::glb)
+    throw InputError(path + ": GLB files are read by the Python package (meshsmith.io.read_mesh)");
   const FileContents contents = read_file_contents(path);
   PolygonMesh mesh;
   switch (format) {
@@ -213,12 +244,19 @@ PolygonMesh read_mesh(const std::string& path, const ReadOptions& options) {
     mesh.N.resize(0, 3);
     mesh.face_normals.clear();
   }
+  if (!options.with_colors) {
+    mesh.colors.resize(0, 3);
+    mesh.face_colors.resize(0, 3);
+  }
   return mesh;
 }
 
 void write_mesh(const std::string& path, const PolygonMesh& mesh, const WriteOptions& options) {
   const Format format = resolve_format(path, options.format);
+  if (format == Format::glb)
+    throw InputError(path + ": GLB files are written by the Python package (meshsmith.io.write_mesh)");
   check_writable(path, mesh);
+  check_format_holds(path, mesh, format);
   if (options.binary && (format == Format::stl || format == Format::off)) {
     const double largest = mesh.V.size() ? mesh.V.cwiseAbs().maxCoeff() : 0.0;
     if (largest > static_cast<double>(std::numeric_limits<float>::max()))
@@ -238,6 +276,60 @@ void write_mesh(const std::string& path, const PolygonMesh& mesh, const WriteOpt
                        " (use write_points for point clouds)");
   }
   write_file_contents(path, contents);
+}
+
+void check_format_holds(const std::string& path, const PolygonMesh& mesh, Format format) {
+  format = resolve_format(path, format);
+  const char* name = format_name(format);
+  auto refuse = [&](const std::string& attribute, const std::string& instead) {
+    throw InputError(path + ": cannot write " + attribute + ": " + name + " cannot hold them (" +
+                     instead + ")");
+  };
+  const bool normals = mesh.N.rows() > 0, uvs = mesh.UV.rows() > 0;
+  const bool colors = mesh.colors.rows() > 0, face_colors = mesh.face_colors.rows() > 0;
+  VertexMatrix vertex_normals;
+  UVMatrix vertex_uvs;
+  switch (format) {
+    case Format::stl:
+      // Suggest only formats that hold them as they are (per vertex or per corner).
+      if (normals)
+        refuse("normals", std::string("STL stores facet normals computed from the positions; ") +
+                              (per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals)
+                                   ? "write OBJ, PLY, OFF or GLB" : "write OBJ or GLB"));
+      if (uvs)
+        refuse("UV (texture coordinates)", per_vertex_values(mesh, mesh.UV, mesh.face_uvs, vertex_uvs)
+                                               ? "write OBJ, PLY, OFF or GLB" : "write OBJ, PLY or GLB");
+      if (colors) refuse("colors (vertex colours)", "write PLY, OFF, OBJ or GLB");
+      if (face_colors) refuse("face_colors (face colours)", "write PLY or OFF");
+      break;
+    case Format::obj:
+      if (face_colors) refuse("face_colors (face colours)", "write PLY or OFF");
+      if (colors && mesh.colors.cols() == 4)
+        for (Eigen::Index r = 0; r < mesh.colors.rows(); ++r)
+          if (mesh.colors(r, 3) != 1.0)
+            refuse("colors with alpha (row " + std::to_string(r) + " has alpha " +
+                       std::to_string(mesh.colors(r, 3)) + ")",
+                   "OBJ colours are r g b; write PLY, OFF or GLB");
+      break;
+    case Format::ply:
+      if (normals && !per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals))
+        refuse("normals (per corner)", "PLY normals are per vertex; write OBJ or GLB");
+      break;
+    case Format::glb:
+      if (face_colors) refuse("face_colors (face colours)", "glTF colours are per vertex; write PLY or OFF");
+      if (uvs && std::find(mesh.face_uvs.begin(), mesh.face_uvs.end(), -1) != mesh.face_uvs.end())
+        refuse("UV (texture coordinates) on only some corners", "glTF vertices have all or none; write OBJ or PLY");
+      if (normals && std::find(mesh.face_normals.begin(), mesh.face_normals.end(), -1) != mesh.face_normals.end())
+        refuse("normals on only some corners", "glTF vertices have all or none; write OBJ");
+      break;
+    case Format::off:
+      if (normals && !per_vertex_values(mesh, mesh.N, mesh.face_normals, vertex_normals))
+        refuse("normals (per corner)", "OFF normals are per vertex; write OBJ or GLB");
+      if (uvs && !per_vertex_values(mesh, mesh.UV, mesh.face_uvs, vertex_uvs))
+        refuse("UV (per-corner texture coordinates)", "OFF texture coordinates are per vertex; write OBJ, PLY or GLB");
+      break;
+    default: break;
+  }
 }
 
 PointCloud read_points(const std::string& path, Format requested) {

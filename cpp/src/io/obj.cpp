@@ -14,17 +14,48 @@ namespace meshsmith::io {
 
 namespace {
 
-/// Statements of the OBJ specification that carry nothing read_mesh returns.
+/// Statements of the OBJ specification that carry nothing a mesh needs (grouping, materials,
+/// smoothing groups, display and rendering attributes): skipped silently.
 bool is_ignored_statement(std::string_view keyword) {
-  static constexpr std::array<std::string_view, 33> ignored = {
-      "o", "g", "s", "mg", "usemtl", "mtllib", "l", "p", "vp", "cstype", "deg", "bmat",
-      "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con",
-      "bevel", "c_interp", "d_interp", "lod", "maplib", "usemap", "shadow_obj", "trace_obj",
-      "ctech", "stech"};
+  static constexpr std::array<std::string_view, 16> ignored = {
+      "o", "g", "s", "mg", "usemtl", "mtllib", "lod", "maplib", "usemap", "shadow_obj",
+      "trace_obj", "ctech", "stech", "bevel", "c_interp", "d_interp"};
   for (std::string_view word : ignored)
     if (keyword == word) return true;
   return false;
 }
+
+/// Statements of the OBJ specification with geometry that a mesh does not hold (points, lines,
+/// free-form curves and surfaces): skipped with a warning that counts them.
+const char* skipped_geometry(std::string_view keyword) {
+  if (keyword == "p") return "points";
+  if (keyword == "l") return "polylines";
+  static constexpr std::array<std::string_view, 15> free_form = {
+      "vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+      "scrv", "sp", "end", "con"};
+  for (std::string_view word : free_form)
+    if (keyword == word) return "free-form geometry";
+  return nullptr;
+}
+
+/// Counts of the statements a parse skipped with a warning, by kind: at most `limit` kinds are
+/// named (in order of first appearance), the rest are only counted, so that a file of garbage
+/// costs no more than a file of faces.
+struct SkippedStatements {
+  static constexpr std::size_t limit = 16;
+  std::vector<std::pair<std::string, std::int64_t>> kinds;
+  std::int64_t others = 0;
+
+  void add(std::string_view keyword, std::int64_t count) {
+    for (auto& [kind, total] : kinds)
+      if (kind == keyword) {
+        total += count;
+        return;
+      }
+    if (kinds.size() < limit) kinds.emplace_back(std::string(keyword), count);
+    else others += count;
+  }
+};
 
 /// Turns a 1-based (or negative, relative) OBJ index into a 0-based one; remembers the largest
 /// forward reference so that it can be checked once every element has been read.
@@ -57,10 +88,11 @@ struct IndexResolver {
   }
 };
 
-/// Parses the numbers of a v/vt/vn statement into `out` (at least `minimum`, at most `maximum`
-/// values; `store` of them are appended, missing ones as 0).
-void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword, int minimum,
-                   int maximum, int store, std::vector<double>& out) {
+/// Parses the numbers of a vt/vn statement into `out` (at least `minimum`, at most `maximum`
+/// values; `store` of them are appended, missing ones as 0). Returns how many there were; `last`
+/// gets the last one.
+int parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword, int minimum,
+                  int maximum, int store, std::vector<double>& out, double& last) {
   std::string_view token;
   int count = 0;
   double value;
@@ -71,11 +103,27 @@ void parse_numbers(const LineReader& lines, Tokens& tokens, const char* keyword,
     if (count < store) out.push_back(value);
     if (++count > maximum)
       lines.fail(std::string("too many values in a '") + keyword + "' statement");
+    last = value;
   }
   if (count < minimum)
     lines.fail(std::string("'") + keyword + "' needs at least " + std::to_string(minimum) +
                " numbers, found " + std::to_string(count));
-  for (; count < store; ++count) out.push_back(0.0);
+  for (int k = count; k < store; ++k) out.push_back(0.0);
+  return count;
+}
+
+/// Parses the 3 to 7 numbers of a 'v' statement into `values`; returns how many there were.
+int parse_vertex(const LineReader& lines, Tokens& tokens, double* values) {
+  std::string_view token;
+  int count = 0;
+  while (tokens.next(token)) {
+    if (count == 7) lines.fail("too many values in a 'v' statement");
+    if (!parse_double(token, values[count]))
+      lines.fail(quoted(token) + " is not a finite number in a 'v' statement");
+    ++count;
+  }
+  if (count < 3) lines.fail("'v' needs at least 3 numbers, found " + std::to_string(count));
+  return count;
 }
 
 /// Thrown by a chunk of a parallel parse that cannot be parsed on its own (a relative index).
@@ -84,6 +132,11 @@ struct NeedsWholeFile {};
 /// What one run of lines holds, before the pieces of several runs are joined.
 struct ObjPiece {
   std::vector<double> positions, uvs, normals;
+  std::vector<double> colors;  // 4 per vertex with colour (alpha 1 when 3 were given)
+  std::int64_t colored = 0;    // vertices with colours ('v x y z r g b [a]')
+  std::int64_t uv_with_w = 0;  // 'vt u v w' with w != 0 (3D texture coordinates)
+  bool any_alpha = false;
+  SkippedStatements skipped;
   std::vector<std::int64_t> face_offsets{0};  // local: start at 0
   std::vector<int> corners, corner_uvs, corner_normals;
   std::int64_t uv_count = 0, normal_count = 0;
@@ -106,7 +159,20 @@ ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const R
     Tokens tokens(line);
     if (!tokens.next(keyword) || keyword[0] == '#') continue;
     if (keyword == "v") {
-      parse_numbers(lines, tokens, "v", 3, 7, 3, piece.positions);
+      // x y z, x y z w (w ignored), x y z r g b or x y z r g b a.
+      double values[7];
+      const int given = parse_vertex(lines, tokens, values);
+      piece.positions.push_back(values[0]);
+      piece.positions.push_back(values[1]);
+      piece.positions.push_back(values[2]);
+      if (given >= 6) {
+        ++piece.colored;
+        if (options.with_colors) {
+          piece.colors.insert(piece.colors.end(), values + 3, values + 6);
+          piece.colors.push_back(given == 7 ? values[6] : 1.0);
+          piece.any_alpha |= given == 7;
+        }
+      }
     } else if (keyword == "f" || keyword == "fo") {
       std::int64_t corners = 0;
       while (tokens.next(corner)) {
@@ -147,12 +213,15 @@ ObjPiece parse_obj_piece(const std::string& path, std::string_view text, const R
       piece.face_offsets.push_back(piece.face_offsets.back() + corners);
     } else if (keyword == "vt") {
       ++piece.uv_count;
-      parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, piece.uvs);
+      double w = 0.0;
+      if (parse_numbers(lines, tokens, "vt", 1, 3, options.with_uv ? 2 : 0, piece.uvs, w) == 3 && w != 0.0)
+        ++piece.uv_with_w;
     } else if (keyword == "vn") {
       ++piece.normal_count;
-      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals);
+      double last;
+      parse_numbers(lines, tokens, "vn", 3, 3, options.with_normals ? 3 : 0, piece.normals, last);
     } else if (!is_ignored_statement(keyword)) {
-      lines.fail("unknown OBJ statement " + quoted(keyword));
+      piece.skipped.add(keyword, 1);
     }
   }
   return piece;
@@ -260,6 +329,39 @@ PolygonMesh parse_obj_text(const std::string& path, std::string_view text,
     mesh.N = to_matrix<VertexMatrix>(join(pieces, &ObjPiece::normals));
     mesh.face_normals = join(pieces, &ObjPiece::corner_normals);
   }
+  std::int64_t colored = 0, uv_with_w = 0;
+  bool any_alpha = false;
+  SkippedStatements skipped;
+  for (const ObjPiece& piece : pieces) {
+    colored += piece.colored;
+    uv_with_w += piece.uv_with_w;
+    any_alpha |= piece.any_alpha;
+    for (const auto& [keyword, count] : piece.skipped.kinds) skipped.add(keyword, count);
+    skipped.others += piece.skipped.others;
+  }
+  if (options.with_colors && colored == vertex_count) {
+    const std::vector<double> rgba = join(pieces, &ObjPiece::colors);
+    mesh.colors.resize(vertex_count, any_alpha ? 4 : 3);
+    for (std::int64_t i = 0; i < vertex_count; ++i)
+      for (Eigen::Index c = 0; c < mesh.colors.cols(); ++c) mesh.colors(i, c) = rgba[4 * i + c];
+  } else if (options.with_colors && colored > 0) {
+    mesh.warnings.push_back("only " + std::to_string(colored) + " of " +
+                            std::to_string(vertex_count) +
+                            " vertices have colours ('v x y z r g b'): colours not read");
+  }
+  if (options.with_uv && uv_with_w > 0)
+    mesh.warnings.push_back(std::to_string(uv_with_w) +
+                            " texture coordinates have a third component w (3D textures): not read");
+  for (const auto& [keyword, count] : skipped.kinds) {
+    const char* geometry = skipped_geometry(keyword);
+    mesh.warnings.push_back("skipped " + std::to_string(count) + " " +
+                            (geometry ? "" : "unknown ") + printable(quoted(keyword)) +
+                            (count == 1 ? " statement" : " statements") +
+                            (geometry ? std::string(" (") + geometry + ": a mesh holds faces)" : ""));
+  }
+  if (skipped.others > 0)
+    mesh.warnings.push_back("skipped " + std::to_string(skipped.others) +
+                            " more statements of other unknown kinds");
   return mesh;
 }
 
@@ -273,14 +375,25 @@ std::string format_obj(const PolygonMesh& mesh) {
   OutputBuffer out;
   out.reserve(static_cast<std::size_t>(mesh.V.rows()) * 60 + mesh.face_vertices.size() * 12);
   out.text("# written by meshsmith\n");
+  const bool colors = mesh.colors.rows() > 0;  // r g b (check_format_holds: alpha is 1)
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
     out.text("v ");
     out.number(mesh.V(i, 0)); out.character(' ');
     out.number(mesh.V(i, 1)); out.character(' ');
-    out.number(mesh.V(i, 2)); out.character('\n');
+    out.number(mesh.V(i, 2));
+    if (colors)
+      for (int c = 0; c < 3; ++c) {
+        out.character(' ');
+        out.number(mesh.colors(i, c));
+      }
+    out.character('\n');
   }
-  const bool with_uv = mesh.UV.rows() > 0 && !mesh.face_uvs.empty();
-  const bool with_normals = mesh.N.rows() > 0 && !mesh.face_normals.empty();
+  const bool with_uv = mesh.UV.rows() > 0;
+  const bool with_normals = mesh.N.rows() > 0;
+  // Without corner indices the attributes are per vertex: the corner's vertex indexes them.
+  const std::vector<int>& face_uvs = mesh.face_uvs.empty() ? mesh.face_vertices : mesh.face_uvs;
+  const std::vector<int>& face_normals =
+      mesh.face_normals.empty() ? mesh.face_vertices : mesh.face_normals;
   if (with_uv)
     for (Eigen::Index i = 0; i < mesh.UV.rows(); ++i) {
       out.text("vt ");
@@ -299,8 +412,8 @@ std::string format_obj(const PolygonMesh& mesh) {
     // A face carries vt / vn only when all its corners have one (OBJ cannot mix within a face).
     bool face_uv = with_uv, face_normal = with_normals;
     for (std::int64_t k = begin; k < end; ++k) {
-      if (face_uv && mesh.face_uvs[k] < 0) face_uv = false;
-      if (face_normal && mesh.face_normals[k] < 0) face_normal = false;
+      if (face_uv && face_uvs[k] < 0) face_uv = false;
+      if (face_normal && face_normals[k] < 0) face_normal = false;
     }
     out.character('f');
     for (std::int64_t k = begin; k < end; ++k) {
@@ -308,10 +421,10 @@ std::string format_obj(const PolygonMesh& mesh) {
       out.number(mesh.face_vertices[k] + 1);
       if (face_uv || face_normal) {
         out.character('/');
-        if (face_uv) out.number(mesh.face_uvs[k] + 1);
+        if (face_uv) out.number(face_uvs[k] + 1);
         if (face_normal) {
           out.character('/');
-          out.number(mesh.face_normals[k] + 1);
+          out.number(face_normals[k] + 1);
         }
       }
     }

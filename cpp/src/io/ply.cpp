@@ -56,7 +56,20 @@ double decode_scalar(Scalar type, const char* data, bool swap) {
 }
 
 /// What read_mesh does with a property.
-enum class Role { skip, x, y, z, nx, ny, nz, u, v, face_indices, strip_indices };
+enum class Role {
+  skip, x, y, z, nx, ny, nz, u, v, red, green, blue, alpha, face_indices, strip_indices, texcoord,
+  count_
+};
+
+bool is_color(Role role) { return role >= Role::red && role <= Role::alpha; }
+
+/// The divisor that takes a colour stored as `type` to [0, 1]: 255 for 8-bit and other integer
+/// types, 65535 for 16-bit unsigned, 1 for floating point. (A division, not a multiplication by
+/// the reciprocal, so that k / 255 reads back as the double the writer tested.)
+double color_divisor(Scalar type) {
+  if (!is_integral(type)) return 1.0;
+  return type == Scalar::uint16 ? 65535.0 : 255.0;
+}
 
 struct Property {
   std::string name;
@@ -91,6 +104,16 @@ struct Header {
   std::size_t body_line = 0;    // line number of the first body line (ASCII)
 };
 
+/// red, green, blue, alpha (and the diffuse_ names of older Stanford files).
+Role color_role(std::string_view name) {
+  if (name.substr(0, 8) == "diffuse_") name.remove_prefix(8);
+  if (name == "red") return Role::red;
+  if (name == "green") return Role::green;
+  if (name == "blue") return Role::blue;
+  if (name == "alpha") return Role::alpha;
+  return Role::skip;
+}
+
 Role vertex_role(std::string_view name) {
   if (name == "x") return Role::x;
   if (name == "y") return Role::y;
@@ -100,7 +123,7 @@ Role vertex_role(std::string_view name) {
   if (name == "nz") return Role::nz;
   if (name == "u" || name == "s" || name == "texture_u" || name == "texture_s") return Role::u;
   if (name == "v" || name == "t" || name == "texture_v" || name == "texture_t") return Role::v;
-  return Role::skip;
+  return color_role(name);
 }
 
 Header parse_header(const std::string& path, std::string_view bytes) {
@@ -159,6 +182,10 @@ Header parse_header(const std::string& path, std::string_view bytes) {
       Element& element = header.elements.back();
       if (element.name == "vertex" && !property.is_list) {
         property.role = vertex_role(name);
+      } else if (element.name == "face" && !property.is_list) {
+        property.role = color_role(name);
+      } else if (element.name == "face" && property.is_list && name == "texcoord") {
+        property.role = Role::texcoord;
       } else if (property.is_list && (name == "vertex_indices" || name == "vertex_index")) {
         if (element.name == "face") property.role = Role::face_indices;
         if (element.name == "tristrips") property.role = Role::strip_indices;
@@ -193,6 +220,16 @@ Header parse_header(const std::string& path, std::string_view bytes) {
   return header;
 }
 
+/// Which of the optional roles an element declares.
+struct RoleSet {
+  bool present[static_cast<int>(Role::count_)] = {};
+  explicit RoleSet(const Element& element) {
+    for (const Property& property : element.properties) present[static_cast<int>(property.role)] = true;
+  }
+  bool operator[](Role role) const { return present[static_cast<int>(role)]; }
+  bool colors() const { return (*this)[Role::red] && (*this)[Role::green] && (*this)[Role::blue]; }
+};
+
 /// Receives the values of the roles that read_mesh keeps, whatever the encoding.
 class MeshBuilder {
  public:
@@ -203,45 +240,90 @@ class MeshBuilder {
     vertex_count_ = element.count;
     vertex_limit_ = static_cast<double>(element.count);
     if (vertex_count_ > INT_MAX) throw InputError(path_ + ": too many vertices");
-    bool roles[11] = {};
-    for (const Property& property : element.properties) roles[static_cast<int>(property.role)] = true;
-    if (!roles[int(Role::x)] || !roles[int(Role::y)] || !roles[int(Role::z)])
+    const RoleSet roles(element);
+    if (!roles[Role::x] || !roles[Role::y] || !roles[Role::z])
       throw InputError(path_ + ": line " + std::to_string(element.header_line) +
                        ": the vertex element lacks an x, y or z property");
-    has_normals_ = roles[int(Role::nx)] && roles[int(Role::ny)] && roles[int(Role::nz)];
-    has_uv_ = roles[int(Role::u)] && roles[int(Role::v)];
+    has_normals_ = roles[Role::nx] && roles[Role::ny] && roles[Role::nz];
+    has_uv_ = roles[Role::u] && roles[Role::v];
+    has_colors_ = read_faces_ && roles.colors();
     mesh.V.resize(vertex_count_, 3);
     if (has_normals_) mesh.N.resize(vertex_count_, 3);
     if (has_uv_) mesh.UV.resize(vertex_count_, 2);
+    if (has_colors_) {
+      mesh.colors.setOnes(vertex_count_, 4);  // alpha 1 unless the file gives it
+      alpha_ = roles[Role::alpha];
+    }
+    for (const Property& property : element.properties)
+      if (is_color(property.role)) vertex_color_divisor_[color_channel(property.role)] = color_divisor(property.type);
   }
 
-  /// Where the values of `role` go: a column of V, N or UV (pointer to row 0 and row stride),
-  /// or nullptr when the role is not kept.
-  std::pair<double*, Eigen::Index> destination(Role role) {
+  /// Where the values of `role` go: a column of V, N, UV or the colours (pointer to row 0, row
+  /// stride, and the divisor to apply), or nullptr when the role is not kept.
+  struct Destination { double* data; Eigen::Index stride; double divisor; };
+  Destination destination(Role role) {
     const int r = static_cast<int>(role);
-    if (role == Role::x || role == Role::y || role == Role::z) return {mesh.V.data() + (r - int(Role::x)), 3};
+    if (role == Role::x || role == Role::y || role == Role::z) return {mesh.V.data() + (r - int(Role::x)), 3, 1.0};
     if (has_normals_ && (role == Role::nx || role == Role::ny || role == Role::nz))
-      return {mesh.N.data() + (r - int(Role::nx)), 3};
-    if (has_uv_ && (role == Role::u || role == Role::v)) return {mesh.UV.data() + (r - int(Role::u)), 2};
-    return {nullptr, 0};
+      return {mesh.N.data() + (r - int(Role::nx)), 3, 1.0};
+    if (has_uv_ && (role == Role::u || role == Role::v)) return {mesh.UV.data() + (r - int(Role::u)), 2, 1.0};
+    if (has_colors_ && is_color(role))
+      return {mesh.colors.data() + color_channel(role), 4, vertex_color_divisor_[color_channel(role)]};
+    return {nullptr, 0, 1.0};
   }
 
   bool reads_faces() const { return read_faces_; }
 
   /// Stores `value` of vertex `i`; false when the value is not finite where it matters.
   bool vertex_value(std::int64_t i, Role role, double value) {
-    switch (role) {
-      case Role::x: case Role::y: case Role::z:
-        mesh.V(i, static_cast<int>(role) - static_cast<int>(Role::x)) = value;
-        return std::isfinite(value);
-      case Role::nx: case Role::ny: case Role::nz:
-        if (has_normals_) mesh.N(i, static_cast<int>(role) - static_cast<int>(Role::nx)) = value;
-        return std::isfinite(value);
-      case Role::u: case Role::v:
-        if (has_uv_) mesh.UV(i, static_cast<int>(role) - static_cast<int>(Role::u)) = value;
-        return std::isfinite(value);
-      default: return true;
+    const Destination to = destination(role);
+    if (to.data) to.data[i * to.stride] = value / to.divisor;
+    return role == Role::skip || std::isfinite(value);
+  }
+
+  /// Declares the face element: its colour and texcoord properties.
+  void begin_faces(const Element& element) {
+    if (!read_faces_) return;
+    const RoleSet roles(element);
+    face_colors_ = roles.colors();
+    face_texcoords_ = roles[Role::texcoord];
+    face_alpha_ = roles[Role::alpha];
+    for (const Property& property : element.properties)
+      if (is_color(property.role)) face_color_divisor_[color_channel(property.role)] = color_divisor(property.type);
+    if (face_colors_) face_rgba_.reserve(4 * static_cast<std::size_t>(element.count));
+  }
+
+  /// Stores the scalar `value` of `role` for the current face record; false when not finite.
+  bool face_value(Role role, double value) {
+    if (!is_color(role)) return true;
+    if (!std::isfinite(value)) return false;
+    if (face_colors_) record_rgba_[color_channel(role)] = value / face_color_divisor_[color_channel(role)];
+    return true;
+  }
+
+  /// Ends face record `r`: stores its colour and pairs its texcoord list with its corners.
+  /// "" or an error message.
+  std::string end_face_record() {
+    if (!read_faces_) return {};
+    if (face_colors_) {
+      face_rgba_.insert(face_rgba_.end(), record_rgba_, record_rgba_ + 4);
+      record_rgba_[3] = 1.0;
     }
+    if (!face_texcoords_) return {};
+    const std::size_t corners = mesh.face_vertices.size() - mesh.face_uvs.size();
+    if (record_uv_.empty()) {
+      mesh.face_uvs.insert(mesh.face_uvs.end(), corners, -1);
+    } else if (record_uv_.size() == 2 * corners) {
+      for (std::size_t k = 0; k < corners; ++k) mesh.face_uvs.push_back(static_cast<int>(uv_values_.size() / 2 + k));
+      uv_values_.insert(uv_values_.end(), record_uv_.begin(), record_uv_.end());
+    } else {
+      const std::size_t given = record_uv_.size();
+      record_uv_.clear();
+      return "texcoord list of " + std::to_string(given) + " values for " + std::to_string(corners) +
+             " corners (2 per corner, or none)";
+    }
+    record_uv_.clear();
+    return {};
   }
 
   /// Reserves room for `faces` more faces of about `corners` corners in all.
@@ -251,7 +333,7 @@ class MeshBuilder {
     mesh.face_vertices.reserve(mesh.face_vertices.size() + corners);
   }
 
-  /// Starts a list of `count` indices of a face or strip property; "" or an error message.
+  /// Starts a list of `count` values of a face, strip or texcoord property; "" or an error.
   std::string begin_list(Role role, std::int64_t count) {
     role_ = role;
     list_.clear();
@@ -260,8 +342,14 @@ class MeshBuilder {
     return {};
   }
 
-  /// Adds an index to the current list; false when it is out of range (see index_error).
+  /// Adds a value to the current list; false when it is out of range or not finite (see
+  /// index_error).
   bool add_index(double value) {
+    if (role_ == Role::texcoord) {
+      if (!std::isfinite(value)) return false;
+      if (read_faces_) record_uv_.push_back(value);
+      return true;
+    }
     if (role_ == Role::strip_indices) {
       if (value == -1) {
         list_.push_back(-1);
@@ -295,6 +383,7 @@ class MeshBuilder {
   std::int64_t vertex_count() const { return vertex_count_; }
 
   std::string index_error(double value) const {
+    if (role_ == Role::texcoord) return "a texture coordinate is not finite";
     OutputBuffer text;  // exact for integers, and no out-of-range cast for huge ASCII values
     text.number(value);
     return "vertex index " + std::string(text.contents()) + " outside [0, " +
@@ -309,9 +398,44 @@ class MeshBuilder {
   }
 
   bool needs_vertex_count() const { return !has_vertices_; }
+
+  /// The mesh with its attributes in their final form: per-vertex normals and UVs indexed by
+  /// the corners' vertices, per-corner UVs from texcoord lists (they win over per-vertex ones),
+  /// colours with 3 columns when the file gives no alpha.
+  PolygonMesh finish() {
+    if (!read_faces_) return std::move(mesh);
+    if (mesh.N.rows() > 0) mesh.face_normals = mesh.face_vertices;
+    const bool per_corner_uv = face_texcoords_ && !uv_values_.empty();
+    if (per_corner_uv) {
+      if (mesh.UV.rows() > 0)
+        mesh.warnings.push_back("the faces' texcoord lists are read; the vertices' texture coordinates are not");
+      mesh.UV.resize(static_cast<Eigen::Index>(uv_values_.size() / 2), 2);
+      std::copy(uv_values_.begin(), uv_values_.end(), mesh.UV.data());
+      if (mesh.face_uvs.size() != mesh.face_vertices.size())  // strips: corners without texcoords
+        mesh.face_uvs.resize(mesh.face_vertices.size(), -1);
+    } else {
+      mesh.face_uvs.clear();
+      if (mesh.UV.rows() > 0) mesh.face_uvs = mesh.face_vertices;
+    }
+    if (has_colors_ && !alpha_) mesh.colors = ColorMatrix(mesh.colors.leftCols(3));
+    if (face_colors_) {
+      const auto faces = static_cast<Eigen::Index>(face_rgba_.size() / 4);
+      if (faces != mesh.face_count()) {
+        mesh.warnings.push_back("the face colours are not read: tristrips add faces that have none");
+      } else {
+        mesh.face_colors.resize(faces, face_alpha_ ? 4 : 3);
+        for (Eigen::Index f = 0; f < faces; ++f)
+          for (Eigen::Index c = 0; c < mesh.face_colors.cols(); ++c) mesh.face_colors(f, c) = face_rgba_[4 * f + c];
+      }
+    }
+    return std::move(mesh);
+  }
+
   PolygonMesh mesh;
 
  private:
+  static int color_channel(Role role) { return static_cast<int>(role) - static_cast<int>(Role::red); }
+
   /// Triangles of a strip (v0 v1 v2 ...; -1 restarts): (a, b, c) with a, b swapped on odd
   /// positions so that all triangles keep the first one's orientation; degenerate ones dropped.
   void add_strips() {
@@ -332,7 +456,11 @@ class MeshBuilder {
 
   const std::string& path_;
   bool read_faces_;
-  bool has_vertices_ = false, has_normals_ = false, has_uv_ = false;
+  bool has_vertices_ = false, has_normals_ = false, has_uv_ = false, has_colors_ = false, alpha_ = false;
+  bool face_colors_ = false, face_texcoords_ = false, face_alpha_ = false;
+  double vertex_color_divisor_[4] = {1, 1, 1, 1}, face_color_divisor_[4] = {1, 1, 1, 1};
+  double record_rgba_[4] = {0, 0, 0, 1};
+  std::vector<double> face_rgba_, record_uv_, uv_values_;
   std::int64_t vertex_count_ = 0;
   double vertex_limit_ = 0;
   Role role_ = Role::skip;
@@ -342,14 +470,11 @@ class MeshBuilder {
 /// The vertex element when all its properties have fixed sizes: decode only the kept ones at
 /// their offsets in each record.
 void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& builder) {
-  struct Field { std::size_t offset; const Property* property; double* destination; Eigen::Index stride; };
+  struct Field { std::size_t offset; const Property* property; MeshBuilder::Destination to; };
   std::vector<Field> fields;
   std::size_t record = 0;
   for (const Property& property : element.properties) {
-    if (property.role != Role::skip) {
-      auto [destination, stride] = builder.destination(property.role);
-      fields.push_back({record, &property, destination, stride});
-    }
+    if (property.role != Role::skip) fields.push_back({record, &property, builder.destination(property.role)});
     record += scalar_size(property.type);
   }
   in.require(record * element.count, "the vertex element");
@@ -357,7 +482,9 @@ void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& b
   const bool swap = in.swap();
   for (const Field& field : fields) {
     const char* data = base + field.offset;
-    double* out = field.destination;
+    double* out = field.to.data;
+    const Eigen::Index stride = field.to.stride;
+    const double divisor = field.to.divisor;
     const Scalar type = field.property->type;
     for (std::int64_t r = 0; r < element.count; ++r, data += record) {
       const double value = type == Scalar::float32 ? ByteReader::decode<float>(data, swap)
@@ -366,7 +493,7 @@ void parse_fixed_vertices(ByteReader& in, const Element& element, MeshBuilder& b
       if (!std::isfinite(value))
         in.fail_at(in.offset() + r * record + field.offset,
                    "vertex " + std::to_string(r) + " has a non-finite " + field.property->name);
-      if (out) out[r * field.stride] = value;
+      if (out) out[r * stride] = divisor == 1.0 ? value : value / divisor;
     }
   }
   in.skip(record * element.count, "the vertex element");
@@ -470,18 +597,24 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
       parse_fixed_vertices(in, element, builder);
       continue;
     }
-    if (element.name == "face") {
+    const bool is_face = element.name == "face";
+    if (is_face) {
+      builder.begin_faces(element);
       builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, in.remaining_bytes() / 4));
       if (parse_simple_faces(in, element, builder)) continue;
     }
     for (std::int64_t r = 0; r < element.count; ++r) {
+      const std::size_t record_start = in.offset();
       for (const Property& property : element.properties) {
         if (!property.is_list) {
           const std::size_t size = scalar_size(property.type);
           in.require(size, property.name.c_str());
-          if (is_vertex && property.role != Role::skip &&
-              !builder.vertex_value(r, property.role, decode_scalar(property.type, in.here(), swap)))
-            in.fail("vertex " + std::to_string(r) + " has a non-finite " + property.name);
+          if (property.role != Role::skip) {
+            const double value = decode_scalar(property.type, in.here(), swap);
+            if (is_vertex ? !builder.vertex_value(r, property.role, value)
+                          : !builder.face_value(property.role, value))
+              in.fail(element.name + " " + std::to_string(r) + " has a non-finite " + property.name);
+          }
           in.skip(size, property.name.c_str());
           continue;
         }
@@ -510,6 +643,10 @@ void parse_binary_body(const std::string& path, std::string_view bytes, const He
         in.skip(items * item_size, property.name.c_str());
         builder.end_list();
       }
+      if (is_face) {
+        const std::string error = builder.end_face_record();
+        if (!error.empty()) in.fail_at(record_start, "face " + std::to_string(r) + ": " + error);
+      }
     }
   }
 }
@@ -526,7 +663,8 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
   };
   for (const Element& element : header.elements) {
     if (element.properties.empty()) continue;
-    const bool is_vertex = element.name == "vertex";
+    const bool is_vertex = element.name == "vertex", is_face = element.name == "face";
+    if (is_face) builder.begin_faces(element);
     for (const Property& property : element.properties)
       if (property.role == Role::face_indices)
         builder.reserve_faces(element.count, std::min<std::size_t>(3 * element.count, lines.remaining_bytes() / 2));
@@ -541,7 +679,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
           double value;
           if (!parse_double(value_token, value))
             lines.fail(quoted(value_token) + " is not a finite number");
-          if (is_vertex && property.role != Role::skip) builder.vertex_value(r, property.role, value);
+          if (property.role != Role::skip) {
+            if (is_vertex) builder.vertex_value(r, property.role, value);
+            else builder.face_value(property.role, value);
+          }
           continue;
         }
         std::string_view count_token = next_value(tokens, property, element, r);
@@ -558,7 +699,8 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
           if (!parse_double(item, value))
             lines.fail(quoted(item) + " is not a finite number");
           if (property.role == Role::skip) continue;
-          if (value != std::floor(value)) lines.fail("vertex index " + quoted(item) + " is not an integer");
+          if (property.role != Role::texcoord && value != std::floor(value))
+            lines.fail("vertex index " + quoted(item) + " is not an integer");
           if (!builder.add_index(value))
             lines.fail(element.name + " " + std::to_string(r) + ": " + builder.index_error(value));
         }
@@ -566,6 +708,10 @@ void parse_ascii_body(const std::string& path, std::string_view bytes, const Hea
       }
       if (!tokens.empty())
         lines.fail(element.name + " " + std::to_string(r) + ": more values than the header declares");
+      if (is_face) {
+        const std::string error = builder.end_face_record();
+        if (!error.empty()) lines.fail("face " + std::to_string(r) + ": " + error);
+      }
     }
   }
 }
@@ -582,46 +728,132 @@ PolygonMesh parse_ply(const std::string& path, std::string_view bytes, bool read
   if (header.encoding == Encoding::ascii) parse_ascii_body(path, bytes, header, builder);
   else parse_binary_body(path, bytes, header, builder);
   if (builder.mesh.V.rows() == 0) throw InputError(path + ": the PLY file has no vertices");
-  // Per-vertex normals and texture coordinates: each corner uses its vertex's.
-  if (builder.mesh.N.rows() > 0) builder.mesh.face_normals = builder.mesh.face_vertices;
-  if (builder.mesh.UV.rows() > 0) builder.mesh.face_uvs = builder.mesh.face_vertices;
-  return std::move(builder.mesh);
+  return builder.finish();
 }
 
+namespace {
+
+/// True when every value is k / 255 for an integer k (what 8-bit colours read back as).
+bool is_8bit(const ColorMatrix& colors) {
+  for (Eigen::Index r = 0; r < colors.rows(); ++r)
+    for (Eigen::Index c = 0; c < colors.cols(); ++c)
+      if (std::round(colors(r, c) * 255.0) / 255.0 != colors(r, c)) return false;
+  return true;
+}
+
+/// Writes PLY values one after another, as text (space-separated) or binary.
+class PlyRecords {
+ public:
+  PlyRecords(OutputBuffer& out, bool binary, bool big_endian)
+      : out_(out), binary_(binary), big_endian_(big_endian) {}
+  void real(double value) {
+    if (binary_) out_.binary<double>(value, big_endian_);
+    else separate(), out_.number(value);
+  }
+  void integer(std::int32_t value, bool as_byte) {
+    if (binary_ && as_byte) out_.binary<std::uint8_t>(static_cast<std::uint8_t>(value), big_endian_);
+    else if (binary_) out_.binary<std::int32_t>(value, big_endian_);
+    else separate(), out_.number(value);
+  }
+  void color(double value, bool as_byte) {
+    if (as_byte) integer(static_cast<std::int32_t>(std::round(value * 255.0)), true);
+    else real(value);
+  }
+  void end_record() {
+    if (!binary_) out_.character('\n');
+    first_ = true;
+  }
+
+ private:
+  void separate() {
+    if (!first_) out_.character(' ');
+    first_ = false;
+  }
+  OutputBuffer& out_;
+  bool binary_, big_endian_, first_ = true;
+};
+
+}  // namespace
+
 std::string format_ply(const PolygonMesh& mesh, bool binary, bool big_endian) {
-  OutputBuffer out;
-  const bool normals = mesh.N.rows() == mesh.V.rows() && mesh.N.rows() > 0;
+  // check_format_holds made sure that normals are per vertex; UVs that agree at every vertex are
+  // written per vertex, others as per-corner texcoord lists on the faces.
+  VertexMatrix normals;
+  UVMatrix vertex_uvs;
+  const bool with_normals = per_vertex_values(mesh, mesh.N, mesh.face_normals, normals);
+  const bool uv_per_vertex = per_vertex_values(mesh, mesh.UV, mesh.face_uvs, vertex_uvs);
+  const bool uv_per_corner = mesh.UV.rows() > 0 && !uv_per_vertex;
+  const bool colors = mesh.colors.rows() > 0, face_colors = mesh.face_colors.rows() > 0;
+  const bool byte_colors = colors && is_8bit(mesh.colors);
+  const bool byte_face_colors = face_colors && is_8bit(mesh.face_colors);
   std::int64_t largest_face = 0;
   for (std::int64_t f = 0; f < mesh.face_count(); ++f)
     largest_face = std::max(largest_face, mesh.face_offsets[f + 1] - mesh.face_offsets[f]);
   const bool wide_counts = largest_face > 255;
-  out.reserve(256 + mesh.V.rows() * (normals ? 48 : 24) + mesh.face_count() * 1 + mesh.face_vertices.size() * 4);
+  const bool wide_texcoord_counts = 2 * largest_face > 255;
+
+  OutputBuffer out;
+  out.reserve(512 + mesh.V.rows() * (24 + (with_normals ? 24 : 0) + (uv_per_vertex ? 16 : 0) + (colors ? 32 : 0)) +
+              mesh.face_count() * (1 + (face_colors ? 32 : 0)) + mesh.face_vertices.size() * (uv_per_corner ? 20 : 4));
   out.text("ply\nformat ");
   out.text(!binary ? "ascii" : big_endian ? "binary_big_endian" : "binary_little_endian");
   out.text(" 1.0\ncomment written by meshsmith\nelement vertex ");
   out.number(static_cast<std::int64_t>(mesh.V.rows()));
   out.text("\nproperty double x\nproperty double y\nproperty double z\n");
-  if (normals) out.text("property double nx\nproperty double ny\nproperty double nz\n");
+  if (with_normals) out.text("property double nx\nproperty double ny\nproperty double nz\n");
+  if (uv_per_vertex) out.text("property double texture_u\nproperty double texture_v\n");
+  static const char* const channels[] = {"red", "green", "blue", "alpha"};
+  auto color_properties = [&](const ColorMatrix& matrix, bool as_bytes) {
+    for (Eigen::Index c = 0; c < matrix.cols(); ++c) {
+      out.text(as_bytes ? "property uchar " : "property double ");
+      out.text(channels[c]);
+      out.character('\n');
+    }
+  };
+  if (colors) color_properties(mesh.colors, byte_colors);
   if (mesh.face_count() > 0) {
     out.text("element face ");
     out.number(mesh.face_count());
     out.text(wide_counts ? "\nproperty list int int vertex_indices\n"
                          : "\nproperty list uchar int vertex_indices\n");
+    if (face_colors) color_properties(mesh.face_colors, byte_face_colors);
+    if (uv_per_corner)
+      out.text(wide_texcoord_counts ? "property list int double texcoord\n" : "property list uchar double texcoord\n");
   }
   out.text("end_header\n");
-  if (binary) {
-    // Vertex records and face records are laid out in place, a block at a time.
+
+  if (binary && !with_normals && !uv_per_vertex && !colors) {
+    // The common case: x y z doubles laid out in place, a block at a time.
     const bool swap = big_endian != ByteReader::host_is_big_endian();
-    const int columns = normals ? 6 : 3;
-    char* at = out.extend(static_cast<std::size_t>(mesh.V.rows()) * columns * 8);
+    char* at = out.extend(static_cast<std::size_t>(mesh.V.rows()) * 24);
     for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
-      for (int c = 0; c < columns; ++c, at += 8) {
-        const double value = c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3);
+      for (int c = 0; c < 3; ++c, at += 8) {
+        const double value = mesh.V(i, c);
         std::memcpy(at, &value, 8);
         if (swap) std::reverse(at, at + 8);
       }
+  } else {
+    PlyRecords records(out, binary, big_endian);
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+      for (int c = 0; c < 3; ++c) records.real(mesh.V(i, c));
+      if (with_normals)
+        for (int c = 0; c < 3; ++c) records.real(normals(i, c));
+      if (uv_per_vertex)
+        for (int c = 0; c < 2; ++c) records.real(vertex_uvs(i, c));
+      if (colors)
+        for (Eigen::Index c = 0; c < mesh.colors.cols(); ++c) records.color(mesh.colors(i, c), byte_colors);
+      records.end_record();
+    }
+  }
+  if (!binary && !face_colors && !uv_per_corner) {
+    append_face_lines(out, mesh);
+    return out.take();
+  }
+  if (binary && !face_colors && !uv_per_corner) {
+    // Face records laid out in place.
+    const bool swap = big_endian != ByteReader::host_is_big_endian();
     const std::size_t count_bytes = wide_counts ? 4 : 1;
-    at = out.extend(mesh.face_count() * count_bytes + mesh.face_vertices.size() * 4);
+    char* at = out.extend(mesh.face_count() * count_bytes + mesh.face_vertices.size() * 4);
     for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
       const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
       const auto size = static_cast<std::int32_t>(end - begin);
@@ -639,14 +871,24 @@ std::string format_ply(const PolygonMesh& mesh, bool binary, bool big_endian) {
     }
     return out.take();
   }
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
-    for (int c = 0; c < (normals ? 6 : 3); ++c) {
-      if (c > 0) out.character(' ');
-      out.number(c < 3 ? mesh.V(i, c) : mesh.N(i, c - 3));
+  PlyRecords records(out, binary, big_endian);
+  for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
+    const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
+    records.integer(static_cast<std::int32_t>(end - begin), !wide_counts);
+    for (std::int64_t k = begin; k < end; ++k) records.integer(mesh.face_vertices[k], false);
+    if (face_colors)
+      for (Eigen::Index c = 0; c < mesh.face_colors.cols(); ++c) records.color(mesh.face_colors(f, c), byte_face_colors);
+    if (uv_per_corner) {
+      // A face with a corner without texture coordinates gets an empty list.
+      bool complete = true;
+      for (std::int64_t k = begin; k < end; ++k) complete &= mesh.face_uvs[k] >= 0;
+      records.integer(complete ? static_cast<std::int32_t>(2 * (end - begin)) : 0, !wide_texcoord_counts);
+      if (complete)
+        for (std::int64_t k = begin; k < end; ++k)
+          for (int c = 0; c < 2; ++c) records.real(mesh.UV(mesh.face_uvs[k], c));
     }
-    out.character('\n');
+    records.end_record();
   }
-  append_face_lines(out, mesh);
   return out.take();
 }
 

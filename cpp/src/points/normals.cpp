@@ -222,6 +222,8 @@ VertexMatrix orient_normals(const VertexRef& P, const VertexRef& N,
   const KdTree tree(P);
   const KnnResult neighbors = tree.query_self(options.k, progress.subrange(0.0, 0.4));
   const NeighborGraph graph = symmetric_knn_graph(neighbors.indices);
+  const Progress propagation = progress.subrange(0.4, 1.0);
+  propagation.report(0.0, "orient normals: components");
   double scale = neighbors.distances.mean();
   if (!(scale > 0.0)) scale = 1.0;  // every point duplicated k+1 times: distance term is 0 anyway
   const double alpha = options.alpha / scale;
@@ -238,6 +240,7 @@ VertexMatrix orient_normals(const VertexRef& P, const VertexRef& N,
   std::vector<std::uint32_t> stack;
   for (Eigen::Index start = 0; start < n; ++start) {
     if (component[static_cast<std::size_t>(start)] >= 0) continue;
+    propagation.report(0.0, "orient normals: components");
     const auto label = static_cast<std::int64_t>(seeds.size());
     std::uint32_t best = static_cast<std::uint32_t>(start);
     stack.assign(1, static_cast<std::uint32_t>(start));
@@ -275,7 +278,6 @@ VertexMatrix orient_normals(const VertexRef& P, const VertexRef& N,
     }
   };
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
-  const Progress propagation = progress.subrange(0.4, 1.0);
   Eigen::Index joined = 0;
   for (const std::uint32_t seed : seeds) {
     if (oriented(seed, options.axis) < 0.0) oriented.row(seed) *= -1.0;

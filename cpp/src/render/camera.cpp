@@ -13,19 +13,51 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double radians(double degrees) { return degrees * kPi / 180.0; }
 
+/// The world frame of an up axis: up, the direction the front view looks from, and screen right
+/// in the front view (right = up × front, so the frame is right-handed). The front view looks from
+/// +z for the x and y axes and from -y for the z axes (the CAD/scan convention), and a negative
+/// axis turns the picture upside down about the front direction.
+struct AxisFrame {
+  Eigen::Vector3d up, front, right;
+};
+
+AxisFrame axis_frame(UpAxis axis) {
+  AxisFrame frame;
+  switch (axis) {
+    case UpAxis::x: frame.up = {1, 0, 0}, frame.front = {0, 0, 1}; break;
+    case UpAxis::y: frame.up = {0, 1, 0}, frame.front = {0, 0, 1}; break;
+    case UpAxis::z: frame.up = {0, 0, 1}, frame.front = {0, -1, 0}; break;
+    case UpAxis::minus_x: frame.up = {-1, 0, 0}, frame.front = {0, 0, 1}; break;
+    case UpAxis::minus_y: frame.up = {0, -1, 0}, frame.front = {0, 0, 1}; break;
+    case UpAxis::minus_z: frame.up = {0, 0, -1}, frame.front = {0, -1, 0}; break;
+  }
+  frame.right = frame.up.cross(frame.front);
+  return frame;
+}
+
 /// Screen-right vector for an azimuth: horizontal, so it stays defined for top and bottom views.
 Eigen::Vector3d right_direction(double azimuth_deg, UpAxis up) {
   const double a = radians(azimuth_deg);
-  if (up == UpAxis::y) return {std::cos(a), 0.0, -std::sin(a)};
-  return {std::cos(a), std::sin(a), 0.0};
+  const AxisFrame frame = axis_frame(up);
+  return std::cos(a) * frame.right - std::sin(a) * frame.front;
 }
 
 }  // namespace
 
+UpAxis up_axis_from_name(const std::string& name) {
+  if (name == "x" || name == "+x") return UpAxis::x;
+  if (name == "y" || name == "+y") return UpAxis::y;
+  if (name == "z" || name == "+z") return UpAxis::z;
+  if (name == "-x") return UpAxis::minus_x;
+  if (name == "-y") return UpAxis::minus_y;
+  if (name == "-z") return UpAxis::minus_z;
+  throw InputError("unknown up axis '" + name + "': use x, y, z, -x, -y or -z");
+}
+
 Eigen::Vector3d view_direction(double azimuth_deg, double elevation_deg, UpAxis up) {
   const double a = radians(azimuth_deg), e = radians(elevation_deg);
-  if (up == UpAxis::y) return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
-  return {std::sin(a) * std::cos(e), -std::cos(a) * std::cos(e), std::sin(e)};
+  const AxisFrame frame = axis_frame(up);
+  return std::cos(e) * (std::sin(a) * frame.right + std::cos(a) * frame.front) + std::sin(e) * frame.up;
 }
 
 Camera frame_camera(const VertexRef& V, const FramingOptions& options) {

@@ -382,8 +382,8 @@ class Shader {
 // ---- validation -----------------------------------------------------------------------------
 
 void validate_options(const VertexRef& V, const FaceRef& F, const RenderOptions& options) {
-  if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
-    throw InputError("render: image size must be in [1, 16384], got " +
+  if (options.width < 1 || options.height < 1 || options.width > kMaxImageSide || options.height > kMaxImageSide)
+    throw InputError("render: image size must be in [1, " + std::to_string(kMaxImageSide) + "], got " +
                      std::to_string(options.width) + "x" + std::to_string(options.height));
   if (options.supersample < 1 || options.supersample > 4)
     throw InputError("render: supersample must be 1, 2, 3 or 4, got " +

@@ -13,6 +13,8 @@
 #include <CGAL/spatial_sort.h>
 #include <CGAL/property_map.h>
 
+#include <algorithm>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -51,6 +53,41 @@ std::vector<bool> vertex_flags(const AnyTriangulation& t, Eigen::Index n) {
   return flags;
 }
 
+// CGAL's range constructors insert in a spatial order drawn from its global random state, so
+// the iteration order of edges and simplices differs between two calls on the same input. Sorted
+// here (edges as (low, high); each simplex turned by an even permutation so its smallest index
+// comes first, orientation kept; rows in lexicographic order), results do not depend on it.
+void canonical_order(Triangulation& result) {
+  for (auto& [a, b] : result.edges)
+    if (b < a) std::swap(a, b);
+  std::sort(result.edges.begin(), result.edges.end());
+  SimplexMatrix& S = result.simplices;
+  const Eigen::Index corners = S.cols();
+  for (Eigen::Index r = 0; r < S.rows(); ++r) {
+    Eigen::Index first = 0;
+    S.row(r).minCoeff(&first);
+    if (corners == 3) {
+      const int a = S(r, first), b = S(r, (first + 1) % 3), c = S(r, (first + 2) % 3);  // a rotation
+      S(r, 0) = a, S(r, 1) = b, S(r, 2) = c;
+    } else if (first != 0) {
+      // Swap the smallest into place, then swap the two corners other than 0 and `first`.
+      std::swap(S(r, 0), S(r, first));
+      const Eigen::Index u = first == 1 ? 2 : 1, v = first == 3 ? 2 : 3;
+      std::swap(S(r, u), S(r, v));
+    }
+  }
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(S.rows()));
+  std::iota(order.begin(), order.end(), Eigen::Index(0));
+  std::sort(order.begin(), order.end(), [&](Eigen::Index x, Eigen::Index y) {
+    for (Eigen::Index k = 0; k < corners; ++k)
+      if (S(x, k) != S(y, k)) return S(x, k) < S(y, k);
+    return false;
+  });
+  SimplexMatrix sorted(S.rows(), corners);
+  for (std::size_t r = 0; r < order.size(); ++r) sorted.row(static_cast<Eigen::Index>(r)) = S.row(order[r]);
+  S = std::move(sorted);
+}
+
 // Collects the finite simplices and the vertex flags of a 2D triangulation.
 template <typename Triangulation2>
 Triangulation collect_2d(const Triangulation2& t, Eigen::Index n) {
@@ -60,12 +97,16 @@ Triangulation collect_2d(const Triangulation2& t, Eigen::Index n) {
   for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
     result.edges.emplace_back(e->first->vertex(t.cw(e->second))->info(),
                               e->first->vertex(t.ccw(e->second))->info());
-  if (t.dimension() < 2) return result;
+  if (t.dimension() < 2) {
+    canonical_order(result);
+    return result;
+  }
   result.simplices.resize(static_cast<Eigen::Index>(t.number_of_faces()), 3);
   Eigen::Index row = 0;
   for (auto f = t.finite_faces_begin(); f != t.finite_faces_end(); ++f, ++row)
     for (int k = 0; k < 3; ++k) result.simplices(row, k) = f->vertex(k)->info();
   result.simplices.conservativeResize(row, 3);
+  canonical_order(result);
   return result;
 }
 
@@ -76,12 +117,16 @@ Triangulation collect_3d(const Triangulation3& t, Eigen::Index n) {
   result.is_vertex = vertex_flags(t, n);
   for (auto e = t.finite_edges_begin(); e != t.finite_edges_end(); ++e)
     result.edges.emplace_back(e->first->vertex(e->second)->info(), e->first->vertex(e->third)->info());
-  if (t.dimension() < 3) return result;
+  if (t.dimension() < 3) {
+    canonical_order(result);
+    return result;
+  }
   result.simplices.resize(static_cast<Eigen::Index>(t.number_of_finite_cells()), 4);
   Eigen::Index row = 0;
   for (auto c = t.finite_cells_begin(); c != t.finite_cells_end(); ++c, ++row)
     for (int k = 0; k < 4; ++k) result.simplices(row, k) = c->vertex(k)->info();
   result.simplices.conservativeResize(row, 4);
+  canonical_order(result);
   return result;
 }
 

@@ -1089,12 +1089,18 @@ Mesh crust_3d(const Eigen::Ref<const Eigen::MatrixXd>& input_P, const CoconeOpti
   for (int k : chosen) triangles.push_back(oriented[k]);
   progress.report(0.95, "crust_3d: repair");
   HoleTriangulator hole_triangulator(P, oriented_normals(P, triangles, pole));
+  progress.report(0.955, "crust_3d: repair (holes)");
   fill_small_holes(P, triangles, options.max_hole_edges, hole_triangulator);
-  for (int round = 0; round < 3 && remove_extra_fans(triangles); ++round)
+  for (int round = 0; round < 3 && remove_extra_fans(triangles); ++round) {
+    progress.report(0.96 + 0.005 * round, "crust_3d: repair (fans)");
     fill_small_holes(P, triangles, options.max_hole_edges, hole_triangulator);
+  }
+  progress.report(0.975, "crust_3d: repair (missing edges)");
   SurfaceRepair repair(P, triangles, hole_triangulator);
   repair.insert_missing(t.edges);
+  progress.report(0.985, "crust_3d: repair (folds)");
   repair.remove_folds(t.edges);
+  progress.report(0.995, "crust_3d: repair (compact)");
   repair.compact();
   progress.report(1.0, "crust_3d");
 

@@ -1,12 +1,14 @@
 """`meshsmith clean`: a manifold, consistently oriented mesh, and what it took (§2.4)."""
 from __future__ import annotations
 
+import argparse
+
 from .. import io, repair
 from ..repair.clean import CLEAN_COUNTS
 from .common import read_mesh
 
 
-def command_clean(args) -> int:
+def command_clean(args: argparse.Namespace) -> int:
     V, F = read_mesh(args.input)
     V2, F2, report = repair.clean(V, F, merge_tolerance=None if args.no_merge else args.merge_tolerance,
                                   remove_degenerate=not args.keep_degenerate,
@@ -21,7 +23,7 @@ def command_clean(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     clean = commands.add_parser(
         "clean", help="clean a mesh: merge, remove degenerate faces, split non-manifold, orient",

@@ -1,15 +1,17 @@
 """`meshsmith triangulate|voronoi|crust|power`: planar tessellation and Voronoi filtering (§2.1)."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
 
 from .. import InputError, io, render, tessellation
-from .common import ProgressBar
+from .common import (MESH_SUFFIXES, POINT_CLOUD_SUFFIXES, ProgressBar, add_command, check_output, integer,
+                     number, read_point_cloud)
 
 
-def read_planar(path: str):
+def read_planar(path: str) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
     """Planar input of the tessellation commands: a Triangle ``.poly`` file (vertices, segments,
     holes), or a text file of ``x y`` or ``x y w`` lines (w: a weight, used by ``power``).
     Returns (P (n, 2), segments or None, holes or None, weights or None)."""
@@ -29,6 +31,10 @@ def read_planar(path: str):
     return table[:, :2], None, None, (table[:, 2] if table.shape[1] == 3 else None)
 
 
+#: Extensions read as planar input (a .poly file or x y text) by crust; mesh and point-cloud files are 3D.
+PLANAR_SUFFIXES = (".poly", ".txt", ".xy", ".csv")
+
+
 def _write_planar_mesh(path: str, V2: np.ndarray, F: np.ndarray) -> None:
     if path.lower().endswith(".png"):
         render.plot_planar(path, triangles=(V2, F), title=Path(path).stem)
@@ -36,11 +42,15 @@ def _write_planar_mesh(path: str, V2: np.ndarray, F: np.ndarray) -> None:
         io.write_mesh(path, np.column_stack([V2, np.zeros(len(V2))]), F)
 
 
-def command_triangulate(args) -> int:
+def command_triangulate(args: argparse.Namespace) -> int:
+    check_output(args.output, MESH_SUFFIXES + (".png",), "-o")
+    if args.picture:
+        check_output(args.picture, (".png",), "--picture")
     P, segments, holes, _ = read_planar(args.input)
     # Without segments (a plain point set) the domain is the points' convex hull.
     V2, F, steiner = tessellation.refine(P, segments, holes, min_angle=args.min_angle,
-                                         max_area=args.max_area, progress=ProgressBar())
+                                         max_area=args.max_area, max_steiner_points=args.max_steiner_points,
+                                         progress=ProgressBar())
     _write_planar_mesh(args.output, V2, F)
     if args.picture:
         render.plot_planar(args.picture, triangles=(V2, F), highlight=V2[len(P):],
@@ -51,7 +61,8 @@ def command_triangulate(args) -> int:
     return 0
 
 
-def command_voronoi(args) -> int:
+def command_voronoi(args: argparse.Namespace) -> int:
+    check_output(args.output, (".png",), "-o")
     P, _, _, _ = read_planar(args.input)
     diagram = tessellation.voronoi(P)
     render.plot_planar(args.output, polygons=diagram.cells, points=P,
@@ -60,7 +71,8 @@ def command_voronoi(args) -> int:
     return 0
 
 
-def command_power(args) -> int:
+def command_power(args: argparse.Namespace) -> int:
+    check_output(args.output, (".png",), "-o")
     P, _, _, weights = read_planar(args.input)
     if weights is None:
         raise InputError(f"{args.input}: power diagrams need a weight per site: lines of 'x y w'")
@@ -72,18 +84,19 @@ def command_power(args) -> int:
     return 0
 
 
-def command_crust(args) -> int:
+def command_crust(args: argparse.Namespace) -> int:
+    check_output(args.output, MESH_SUFFIXES + (".png",), "-o")
     suffix = Path(args.input).suffix.lower()
-    if suffix in (".poly", ".txt", ".xy", ".csv") or (suffix not in (".xyz", ".ply", ".obj", ".off", ".stl")):
+    if suffix in PLANAR_SUFFIXES or suffix not in POINT_CLOUD_SUFFIXES + MESH_SUFFIXES:
         P, _, _, _ = read_planar(args.input)
     else:
-        P, _ = io.read_points(args.input) if suffix in (".xyz", ".ply") else (io.read_mesh(args.input)[0], None)
+        P = read_point_cloud(args.input)
         if np.ptp(P[:, 2]) == 0.0:            # samples of a planar curve stored with z = 0
             P = P[:, :2]
     if P.shape[1] == 2:
-        edges = tessellation.crust(P)
         if not args.output.lower().endswith(".png"):
             raise InputError(f"output {args.output}: the 2D crust is a curve; write it as a .png picture")
+        edges = tessellation.crust(P)
         render.plot_planar(args.output, segments=(P, edges), points=P,
                            title=f"crust of {len(P)} samples: {len(edges)} edges")
         print(f"wrote {args.output}: {len(edges)} curve edges through {len(P)} samples")
@@ -97,38 +110,50 @@ def command_crust(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    triangulate = commands.add_parser("triangulate", help="quality triangulation of a planar domain",
-                                      description="Delaunay refinement (§2.1.1) of a planar straight-line "
-                                                  "graph (.poly: vertices, segments, holes) or of a point set "
-                                                  "(x y lines): every angle >= --min-angle (guaranteed up to 20.7°, "
-                                                  "in practice up to ~33°).")
+    triangulate = add_command(
+        commands, "triangulate", help="quality triangulation of a planar domain",
+        description="Delaunay refinement (§2.1.1) of a planar straight-line graph (.poly: vertices, segments, "
+                    "holes) or of a point set (x y lines): every angle >= --min-angle (guaranteed up to 20.7°, "
+                    "in practice up to ~33°).",
+        examples=["meshsmith triangulate domain.poly -o domain.obj",
+                  "meshsmith triangulate domain.poly --min-angle 30 --max-area 0.01 -o fine.off --picture fine.png",
+                  "meshsmith triangulate points.txt -o hull.png"])
     triangulate.add_argument("input", help=".poly file, or a text file of 'x y' lines")
     triangulate.add_argument("-o", "--output", required=True, help="mesh file (.obj, .ply, .off; z = 0) or .png")
-    triangulate.add_argument("--min-angle", type=float, default=20.7, help="degrees (default 20.7)")
-    triangulate.add_argument("--max-area", type=float, help="largest triangle area")
+    triangulate.add_argument("--min-angle", type=number(0, 35, open_low=True, open_high=True), default=20.7,
+                             help="degrees, in (0, 35) (default 20.7)")
+    triangulate.add_argument("--max-area", type=number(0, open_low=True), help="largest triangle area")
+    triangulate.add_argument("--max-steiner-points", type=integer(0, 100_000_000), default=1_000_000,
+                             metavar="N", help="stop with an error rather than insert more points (default 1000000)")
     triangulate.add_argument("--picture", help="also write a PNG of the triangulation (Steiner points in red)")
     triangulate.set_defaults(run=command_triangulate)
 
-    voronoi = commands.add_parser("voronoi", help="Voronoi diagram of planar sites, as a picture",
-                                  description="Voronoi cells (§2.1.1) of planar sites, clipped to their "
-                                              "bounding box enlarged by 10%%, drawn as a PNG.")
+    voronoi = add_command(
+        commands, "voronoi", help="Voronoi diagram of planar sites, as a picture",
+        description="Voronoi cells (§2.1.1) of planar sites, clipped to their bounding box enlarged by 10%, "
+                    "drawn as a PNG.",
+        examples=["meshsmith voronoi points.txt -o cells.png", "meshsmith voronoi domain.poly -o cells.png"])
     voronoi.add_argument("input", help=".poly file, or a text file of 'x y' lines")
     voronoi.add_argument("-o", "--output", required=True, help="output PNG")
     voronoi.set_defaults(run=command_voronoi)
 
-    crust = commands.add_parser("crust", help="reconstruct a curve (2D) or a surface (3D) from samples",
-                                description="Voronoi filtering (§2.1.3): the crust of 2D curve samples "
-                                            "(drawn as a PNG), or the Cocone crust of a 3D point cloud "
-                                            "(written as a mesh or rendered as a PNG).")
+    crust = add_command(
+        commands, "crust", help="reconstruct a curve (2D) or a surface (3D) from samples",
+        description="Voronoi filtering (§2.1.3): the crust of 2D curve samples (drawn as a PNG), or the Cocone "
+                    "crust of a 3D point cloud (written as a mesh or rendered as a PNG).",
+        examples=["meshsmith crust circle.txt -o curve.png", "meshsmith crust points.xyz -o surface.ply",
+                  "meshsmith crust points.xyz -o surface.png"])
     crust.add_argument("input", help="2D: .poly or 'x y' text; 3D: .xyz, .ply or a mesh file's vertices")
     crust.add_argument("-o", "--output", required=True, help="2D: a .png; 3D: a mesh file or a .png")
     crust.set_defaults(run=command_crust)
 
-    power = commands.add_parser("power", help="power diagram of weighted planar sites, as a picture",
-                                description="Power diagram (§2.1.4) of weighted sites (lines of 'x y w', "
-                                            "w a squared radius), drawn as a PNG; hidden sites in red.")
+    power = add_command(
+        commands, "power", help="power diagram of weighted planar sites, as a picture",
+        description="Power diagram (§2.1.4) of weighted sites (lines of 'x y w', w a squared radius), drawn as "
+                    "a PNG; hidden sites in red.",
+        examples=["meshsmith power weighted.txt -o power.png"])
     power.add_argument("input", help="text file of 'x y w' lines")
     power.add_argument("-o", "--output", required=True, help="output PNG")
     power.set_defaults(run=command_power)

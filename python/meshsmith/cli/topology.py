@@ -1,13 +1,14 @@
 """`meshsmith info`: counts, topology, bounding box, area and volume."""
 from __future__ import annotations
 
+import argparse
 import json
 
 from .. import topology
-from .common import read_mesh
+from .common import add_command, read_mesh
 
 
-def command_info(args) -> int:
+def command_info(args: argparse.Namespace) -> int:
     V, F = read_mesh(args.file)
     summary = topology.info(V, F)
     if args.json:
@@ -18,11 +19,13 @@ def command_info(args) -> int:
     return 0
 
 
-def register(commands) -> None:
+def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    info = commands.add_parser("info", help="counts, topology, bounding box, area and volume of a mesh",
-                               description="Print counts, topology (components, boundary loops, genus, "
-                                           "manifoldness, orientation), bounding box, area and volume.")
+    info = add_command(
+        commands, "info", help="counts, topology, bounding box, area and volume of a mesh",
+        description="Print counts, topology (components, boundary loops, genus, manifoldness, orientation), "
+                    "bounding box, area and volume.",
+        examples=["meshsmith info mesh.off", "meshsmith info mesh.off --json"])
     info.add_argument("file", help="mesh file (OBJ, OFF, PLY, STL)")
     info.add_argument("--json", action="store_true", help="print the figures as JSON")
     info.set_defaults(run=command_info)

@@ -7,7 +7,8 @@ int64 arrays. Bad input raises :class:`meshsmith.InputError`.
 Modules, one per algorithm family: ``clustering``, ``qem``, ``progressive``.
 """
 from .clustering import CLUSTER_REPRESENTATIVES, ClusteredMesh, cluster
-from .progressive import ProgressiveMesh, progressive_mesh
-from .qem import DecimationReport, decimate
+from .progressive import FaceRange, ProgressiveMesh, progressive_mesh
+from .qem import DecimatedMesh, DecimationReport, decimate
 
-__all__ = ["CLUSTER_REPRESENTATIVES", "ClusteredMesh", "cluster", "decimate", "DecimationReport", "ProgressiveMesh", "progressive_mesh"]
+__all__ = ["CLUSTER_REPRESENTATIVES", "ClusteredMesh", "cluster", "decimate", "DecimatedMesh", "DecimationReport",
+           "ProgressiveMesh", "FaceRange", "progressive_mesh"]

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numpy as np
-
 from .._core import InputError
 from .._core import decimation as _core
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 
 __all__ = ["CLUSTER_REPRESENTATIVES", "ClusteredMesh", "cluster"]
 
@@ -23,15 +22,15 @@ class ClusteredMesh(NamedTuple):
     triangles); is_manifold: whether F is manifold (clustering does not guarantee it);
     cell_size: the edge length of the grid cells used.
     """
-    V: np.ndarray
-    F: np.ndarray
-    vertex_cluster: np.ndarray
+    V: FloatArray
+    F: IndexArray
+    vertex_cluster: IndexArray
     is_manifold: bool
     cell_size: float
 
 
-def cluster(V, F, *, cell_size: float | None = None, target_vertices: int | None = None,
-            representative: str = "quadric", progress=None) -> ClusteredMesh:
+def cluster(V: ArrayLike, F: ArrayLike, *, cell_size: float | None = None, target_vertices: int | None = None,
+            representative: str = "quadric", progress: ProgressCallback = None) -> ClusteredMesh:
     """Decimate by vertex clustering on a uniform grid (§4.1; Rossignac & Borrel 1993).
 
     Every referenced vertex falls into a cube of edge ``cell_size`` (the grid starts at the
@@ -57,9 +56,9 @@ def cluster(V, F, *, cell_size: float | None = None, target_vertices: int | None
     if (cell_size is None) == (target_vertices is None):
         raise InputError("cluster: give exactly one of cell_size and target_vertices")
     if target_vertices is not None:
-        if isinstance(target_vertices, bool) or not isinstance(target_vertices, (int, np.integer)):
-            raise InputError(f"cluster: target_vertices must be an integer, got {target_vertices!r}")
-        cell_size = _core.cell_size_for_vertex_count(V, F, int(target_vertices))
+        size = _core.cell_size_for_vertex_count(V, F, target_vertices)  # the binding checks the integer
+    else:
+        size = cell_size
     V_out, F_out, vertex_cluster, is_manifold, size = _core.cluster_vertices(
-        V, F, float(cell_size), representative, progress)
+        V, F, float(size), representative, progress)
     return ClusteredMesh(V_out, F_out, vertex_cluster.reshape(-1), bool(is_manifold), float(size))

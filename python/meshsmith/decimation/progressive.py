@@ -3,15 +3,27 @@
 from __future__ import annotations
 
 import os
+import tempfile
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import decimation as _core
+from .._typing import ArrayLike, BoolArray, FloatArray, PathLike
+from ..core import Mesh
 from ..repair.unreferenced import on_referenced_vertices
 from .qem import decimate
 
-__all__ = ["ProgressiveMesh", "progressive_mesh"]
+__all__ = ["FaceRange", "ProgressiveMesh", "progressive_mesh"]
+
+
+class FaceRange(NamedTuple):
+    """:attr:`ProgressiveMesh.face_range`; unpacks as ``base, full``."""
+
+    base: int  #: faces of the base mesh (level 0)
+    full: int  #: faces of the full mesh (level n_splits)
 
 
 class ProgressiveMesh:
@@ -23,15 +35,31 @@ class ProgressiveMesh:
     bit, faces up to order and rotation). Every level is a valid manifold mesh. The current level moves incrementally
     (:meth:`set_level`, :meth:`refine`, :meth:`coarsen`, :meth:`at`): the cost is proportional to
     the number of splits between the two levels, not to the mesh size. Meshes come back as
-    (V (k, 3) float64, F (l, 3) int64) with their vertices in the order of the input mesh.
-    Build one with :func:`progressive_mesh`, or read one with :meth:`ProgressiveMesh.load`.
+    :class:`meshsmith.core.Mesh` (V (k, 3) float64, F (l, 3) int64) with their vertices in the
+    order of the input mesh. Build one with :func:`progressive_mesh`, or read one with
+    :meth:`ProgressiveMesh.load`. Pickles as the bytes of :meth:`save`'s file and the current level.
     """
 
-    def __init__(self, core_mesh):
+    def __init__(self, core_mesh: Any) -> None:
         self._pm = core_mesh
 
+    def __getstate__(self) -> dict[str, Any]:
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "mesh.pm")
+            self.save(path)
+            with open(path, "rb") as stream:
+                return {"pm": stream.read(), "level": self.level}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "mesh.pm")
+            with open(path, "wb") as stream:
+                stream.write(state["pm"])
+            self._pm = _core.load_progressive_mesh(path)
+        self.set_level(state["level"])
+
     @classmethod
-    def load(cls, path) -> "ProgressiveMesh":
+    def load(cls, path: PathLike) -> "ProgressiveMesh":
         """Read a file written by :meth:`save` (at its full level).
 
         Raises InputError for a missing, foreign, newer, truncated or corrupt file (every count
@@ -39,7 +67,7 @@ class ProgressiveMesh:
         """
         return cls(_core.load_progressive_mesh(os.fspath(path)))
 
-    def save(self, path) -> None:
+    def save(self, path: PathLike) -> None:
         """Write the mesh in transmission order (§4.3): a header (magic ``MSPM``, format
         version, counts), the base mesh, then the vertex splits coarse to fine. Little-endian
         binary, 64 bytes per split. Raises InputError if the file cannot be written."""
@@ -61,57 +89,49 @@ class ProgressiveMesh:
         return self._pm.face_count(self._pm.level)
 
     @property
-    def face_range(self) -> tuple[int, int]:
+    def face_range(self) -> FaceRange:
         """(faces of the base mesh, faces of the full mesh)."""
-        return self._pm.face_count(0), self._pm.face_count(self._pm.split_count)
+        return FaceRange(self._pm.face_count(0), self._pm.face_count(self._pm.split_count))
 
     def face_count(self, level: int) -> int:
         """Faces at ``level`` (each split adds two faces, one on the boundary)."""
-        self._check_level(level)
-        return self._pm.face_count(level)
-
-    def _check_level(self, level) -> int:
-        if isinstance(level, bool) or not isinstance(level, (int, np.integer)) \
-                or not 0 <= level <= self.n_splits:
-            raise InputError(f"progressive mesh: level must be an integer in [0, {self.n_splits}], got {level!r}")
-        return int(level)
+        return int(self._pm.face_count(level))  # the binding checks level (an integer in [0, n_splits])
 
     def set_level(self, level: int) -> None:
         """Move the current level to ``level`` by applying or undoing the vertex splits in
         between. Raises InputError if level is outside [0, n_splits]."""
-        self._pm.set_level(self._check_level(level))
+        self._pm.set_level(level)
 
     def refine(self, steps: int = 1) -> int:
         """Apply the next ``steps`` vertex splits (fewer at the full level); returns the level."""
-        self._pm.set_level(min(self.n_splits, self.level + max(0, int(steps))))
+        self._pm.set_level(min(self.n_splits, self.level + _arguments.integer(steps, "steps", 0, 2 ** 63 - 1)))
         return self.level
 
     def coarsen(self, steps: int = 1) -> int:
         """Undo the last ``steps`` vertex splits (fewer at the base level); returns the level."""
-        self._pm.set_level(max(0, self.level - max(0, int(steps))))
+        self._pm.set_level(max(0, self.level - _arguments.integer(steps, "steps", 0, 2 ** 63 - 1)))
         return self.level
 
-    def mesh(self) -> tuple[np.ndarray, np.ndarray]:
+    def mesh(self) -> Mesh:
         """(V, F) at the current level."""
-        return self._pm.current_mesh()
+        return Mesh(*self._pm.current_mesh())
 
     def level_for_face_count(self, n_faces: int) -> int:
         """The finest level with at most ``n_faces`` faces.
 
         Raises InputError if n_faces is not an integer inside :attr:`face_range`."""
-        if isinstance(n_faces, bool) or not isinstance(n_faces, (int, np.integer)):
-            raise InputError(f"progressive mesh: n_faces must be an integer, got {n_faces!r}")
-        return self._pm.level_for_face_count(int(n_faces))
+        return int(self._pm.level_for_face_count(n_faces))  # the binding checks the integer, the core the range
 
-    def at(self, n_faces: int) -> tuple[np.ndarray, np.ndarray]:
+    def at(self, n_faces: int) -> Mesh:
         """Move to the finest level with at most ``n_faces`` faces and return its (V, F).
 
         Raises InputError as :meth:`level_for_face_count`."""
         self._pm.set_level(self.level_for_face_count(n_faces))
-        return self._pm.current_mesh()
+        return Mesh(*self._pm.current_mesh())
 
-    def refine_where(self, predicate=None, *, near=None, radius=None, box=None,
-                     whole_stars: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def refine_where(self, predicate: Callable[[FloatArray], BoolArray] | None = None, *,
+                     near: ArrayLike | None = None, radius: float | None = None, box: ArrayLike | None = None,
+                     whole_stars: bool = False) -> Mesh:
         """Selective refinement (§4.3): full detail where asked, the base mesh elsewhere.
 
         The region is given by exactly one of
@@ -136,21 +156,21 @@ class ProgressiveMesh:
             raise InputError("refine_where: give exactly one of predicate, near with radius, or box")
         P = self._pm.full_positions
         if predicate is not None:
-            selected = np.asarray(predicate(P))
-            if selected.shape != (len(P),) or selected.dtype != bool:
+            selected = _arguments.flag_array(predicate(P), "the predicate's result")
+            if len(selected) != len(P):
                 raise InputError(f"refine_where: the predicate must return a ({len(P)},) bool array, "
-                                 f"got {selected.dtype} {selected.shape}")
+                                 f"got shape {selected.shape}")
         elif near is not None:
-            point = np.asarray(near, dtype=float)
-            if point.shape != (3,) or not np.isfinite(point).all() or not radius >= 0:
+            point = _arguments.finite(_arguments.real_array(near, "near"), "near")
+            if point.shape != (3,) or radius is None or not radius >= 0:
                 raise InputError("refine_where: near must be a finite 3D point and radius >= 0")
             selected = np.linalg.norm(P - point, axis=1) <= radius
         else:
-            bounds = np.asarray(box, dtype=float)
+            bounds = _arguments.real_array(box, "box", 3)
             if bounds.shape != (2, 3) or np.isnan(bounds).any():
                 raise InputError("refine_where: box must be ((xmin, ymin, zmin), (xmax, ymax, zmax))")
             selected = np.all((P >= bounds[0]) & (P <= bounds[1]), axis=1)
-        return self._pm.selective_refinement(selected, bool(whole_stars))
+        return Mesh(*self._pm.selective_refinement(selected, bool(whole_stars)))
 
     def __repr__(self) -> str:
         low, high = self.face_range
@@ -158,7 +178,7 @@ class ProgressiveMesh:
                 f"level {self.level}: {self.n_faces} faces)")
 
 
-def progressive_mesh(V, F, **decimate_options) -> ProgressiveMesh:
+def progressive_mesh(V: ArrayLike, F: ArrayLike, **decimate_options: Any) -> ProgressiveMesh:
     """The progressive mesh of (V, F) (§4.3): :func:`decimate` with ``decimate_options`` (its
     stop rules and fairness criteria; without a stop rule, down to the smallest mesh the
     decimator reaches) records its collapses, stored as vertex splits
@@ -185,8 +205,9 @@ def progressive_mesh(V, F, **decimate_options) -> ProgressiveMesh:
                          "had to split vertices): clean it first with meshsmith.repair.clean "
                          "(`meshsmith clean` on the command line)")
     c = report.collapses
+    assert c is not None  # record_collapses=True
     vertices = np.column_stack([c["removed"], c["kept"], c["left"], c["right"]]) if len(c["removed"]) \
         else np.zeros((0, 4), dtype=np.int64)
     return ProgressiveMesh(_core.progressive_mesh_from_collapses(
         V, F, vertices, c["removed_position"].reshape(-1, 3), c["kept_position_before"].reshape(-1, 3),
-        c["kept_position_after"].reshape(-1, 3)))
+        c["kept_position_after"].reshape(-1, 3), decimate_options.get("progress")))

@@ -3,18 +3,23 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal, NamedTuple, overload
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import decimation as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..core import Mesh
 
-__all__ = ["DecimationReport", "decimate"]
+__all__ = ["DecimationReport", "DecimatedMesh", "decimate"]
 
 
 @dataclass
-class DecimationReport:
-    """What :func:`decimate` did (``return_report=True``).
+class DecimationReport(Unpackable):
+    """What :func:`decimate` did (``return_report=True``). Unpacks in field order.
 
     vertex_origin: (n',) int64, the input vertex each output vertex was (output vertices are
     input vertices that survived, possibly moved). max_error: the largest cost of a performed
@@ -30,18 +35,43 @@ class DecimationReport:
     splits of a progressive mesh read backwards (§4.3); else None.
     """
 
-    vertex_origin: np.ndarray
+    vertex_origin: IndexArray
     max_error: float
     target_reached: bool
     collapse_count: int
-    split_vertex_origin: np.ndarray
-    collapses: dict | None = None
+    split_vertex_origin: IndexArray
+    collapses: dict[str, np.ndarray] | None = None
 
 
-def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="edge",
-             cost="quadric", candidates=None, prevent_normal_flips=True,
-             max_normal_deviation=None, min_quality=None, max_valence=None, keep_boundary=True,
-             seed=0, record_collapses=False, return_report=False, parallel=True, progress=None):
+class DecimatedMesh(NamedTuple):
+    """Result of :func:`decimate` with ``return_report=True``; unpacks as ``V, F, report``."""
+
+    V: FloatArray
+    F: IndexArray
+    report: DecimationReport
+
+
+@overload
+def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = ..., ratio: float | None = ...,
+             max_error: float | None = ..., operator: str = ..., cost: str = ..., candidates: int | None = ...,
+             prevent_normal_flips: bool = ..., max_normal_deviation: float | None = ...,
+             min_quality: float | None = ..., max_valence: int | None = ..., keep_boundary: bool = ...,
+             seed: int = ..., record_collapses: bool = ..., return_report: Literal[False] = ...,
+             parallel: bool = ..., progress: ProgressCallback = ...) -> Mesh: ...
+@overload
+def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = ..., ratio: float | None = ...,
+             max_error: float | None = ..., operator: str = ..., cost: str = ..., candidates: int | None = ...,
+             prevent_normal_flips: bool = ..., max_normal_deviation: float | None = ...,
+             min_quality: float | None = ..., max_valence: int | None = ..., keep_boundary: bool = ...,
+             seed: int = ..., record_collapses: bool = ..., return_report: Literal[True],
+             parallel: bool = ..., progress: ProgressCallback = ...) -> DecimatedMesh: ...
+def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, ratio: float | None = None,
+             max_error: float | None = None, operator: str = "edge", cost: str = "quadric",
+             candidates: int | None = None, prevent_normal_flips: bool = True,
+             max_normal_deviation: float | None = None, min_quality: float | None = None,
+             max_valence: int | None = None, keep_boundary: bool = True, seed: int = 0,
+             record_collapses: bool = False, return_report: bool = False, parallel: bool = True,
+             progress: ProgressCallback = None) -> Mesh | DecimatedMesh:
     """Decimate a triangle mesh by greedy edge collapses ordered by error quadrics (§4.2).
 
     V: (n, 3) float array of vertex positions. F: (m, 3) int array of triangles.
@@ -69,8 +99,8 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     dropped. progress: optional callable ``(fraction, stage) -> bool | None``; returning False
     raises :class:`meshsmith.Cancelled`.
 
-    Returns (V', F'): (n', 3) float64 and (m', 3) int64; with ``return_report=True``
-    (V', F', :class:`DecimationReport`).
+    Returns a :class:`meshsmith.core.Mesh` (V', F'): (n', 3) float64 and (m', 3) int64; with
+    ``return_report=True`` a :class:`DecimatedMesh` (V', F', :class:`DecimationReport`).
     Raises InputError for bad input or an impossible request (no stop rule, target 0, ratio
     outside (0, 1], both target_faces and ratio, an unknown operator or cost, a negative option,
     no face without a repeated index).
@@ -81,17 +111,15 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
     if ratio is not None:
         if not 0 < ratio <= 1:
             raise InputError(f"decimate: ratio must be in (0, 1], got {ratio}")
-        target = max(1, int(round(ratio * len(np.asarray(F)))))
+        target = max(1, int(round(ratio * len(_arguments.index_array(F, "F", 3)))))
     elif target_faces is not None:
-        if int(target_faces) != target_faces or target_faces < 1:
-            raise InputError(f"decimate: target_faces must be an integer >= 1, got {target_faces}")
-        target = int(target_faces)
+        target = _arguments.integer(target_faces, "target_faces", 1, 2 ** 63 - 1)
     if max_error is not None and not max_error > 0:
         raise InputError(f"decimate: max_error must be > 0, got {max_error}")
     if target == 0 and max_error is None:
         raise InputError("decimate: no stop rule: give target_faces, ratio or max_error")
-    if candidates is not None and candidates < 1:
-        raise InputError(f"decimate: candidates must be >= 1 (None: full priority queue), got {candidates}")
+    if candidates is not None:  # the binding bounds it from above
+        candidates = _arguments.integer(candidates, "candidates (None: the full priority queue)", 1, 2 ** 31 - 1)
     V2, F2, report = _core.decimate_qem(
         V, F, target_faces=target, max_error=max_error or 0.0, operator=operator, cost=cost,
         candidates=candidates or 0, seed=seed, prevent_normal_flips=prevent_normal_flips,
@@ -99,8 +127,8 @@ def decimate(V, F, *, target_faces=None, ratio=None, max_error=None, operator="e
         max_valence=max_valence or 0, keep_boundary=keep_boundary,
         record_collapses=record_collapses, parallel=parallel, progress=progress)
     if not return_report:
-        return V2, F2
-    return V2, F2, DecimationReport(
+        return Mesh(V2, F2)
+    return DecimatedMesh(V2, F2, DecimationReport(
         vertex_origin=report["vertex_origin"], max_error=report["max_error"],
         target_reached=report["target_reached"], collapse_count=report["collapse_count"],
-        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses"))
+        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses")))

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -16,14 +17,14 @@ class DemoContext:
     V: np.ndarray
     F: np.ndarray
     uv: np.ndarray | None = None   # (m, 3, 2) per-corner texture coordinates, when the shape has natural ones
-    figures: dict = field(default_factory=dict)  # every stage's numbers, saved as results.json
+    figures: dict[str, Any] = field(default_factory=dict)  # every stage's numbers, saved as results.json
 
 
 @dataclass
 class Section:
     title: str
     text: str
-    table: dict[str, object] = field(default_factory=dict)
+    table: dict[str, Any] = field(default_factory=dict)
     images: list[tuple[str, str]] = field(default_factory=list)  # (file name, caption)
 
 

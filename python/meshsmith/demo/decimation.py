@@ -1,6 +1,8 @@
 """Demo stage of the decimation chapter: QEM levels of detail from one progressive mesh (§4.2–4.3)."""
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .. import InputError, decimation, geometry, render, topology
@@ -12,7 +14,8 @@ def stage_decimation(context: DemoContext) -> Section:
     mesh), with the Hausdorff distance of each level to the input."""
     V, F = context.V, context.F
     diagonal = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
-    images, figures = [], {}
+    images: list[tuple[str, str]] = []
+    figures: dict[str, Any] = {}
     try:
         pm = decimation.progressive_mesh(V, F, target_faces=max(4, len(F) // 100))
         pm.save(context.out / "decimation.pm")

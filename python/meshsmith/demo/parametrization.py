@@ -10,9 +10,9 @@ def stage_parametrization(context: DemoContext) -> Section:
     stretch-minimizing map, with pictures and distortion."""
     figures, images = {}, []
     for method in ("tutte", "lscm", "stretch"):
-        result = parametrization.parametrize(context.V, context.F, method)
+        result = parametrization.parametrize(context.V, context.F, method=method)
         name = f"parametrization_{method}.png"
-        render.parametrization_picture(context.out / name, result, f"checkerboard through the {method} map")
+        render.parametrization_picture(result, context.out / name, f"checkerboard through the {method} map")
         images.append((name, f"{parametrization.PARAMETRIZATION_METHODS[method]}: UV layout coloured by "
                              "angle distortion, and the surface under a checkerboard"))
         for key, value in result.summary().items():

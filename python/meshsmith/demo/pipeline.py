@@ -7,7 +7,8 @@ import time
 import traceback
 from pathlib import Path
 
-from .. import core, io
+from .. import InputError, core, io
+from .._typing import ProgressCallback
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
 from .geometry import stage_curvature
@@ -23,7 +24,7 @@ STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tesse
           stage_parametrization]
 
 
-def run_demo(out: Path | str, input_path: str | None = None, progress=None) -> Path:
+def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:
     """Run every stage and write `out/index.html`; returns its path.
 
     input_path: a mesh file to use instead of the built-in shape; the first stage cleans it
@@ -36,6 +37,8 @@ def run_demo(out: Path | str, input_path: str | None = None, progress=None) -> P
     out.mkdir(parents=True, exist_ok=True)
     if input_path:
         V, F = io.read_mesh(input_path)
+        if len(F) == 0:   # e.g. a range scan stored as PLY vertices: every stage needs triangles
+            raise InputError(f"{input_path} holds no faces (a point cloud?): the demo needs a triangle mesh")
         context = DemoContext(out, Path(input_path).name, V, F)
     else:
         name, V, F, uv = builtin_shape()

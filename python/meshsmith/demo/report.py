@@ -3,9 +3,12 @@ from __future__ import annotations
 
 import html
 
+from .context import DemoContext, Section
 
-def html_report(context, sections, timings, version, dependencies) -> str:
-    def cell(value):
+
+def html_report(context: DemoContext, sections: list[Section], timings: dict[str, float], version: str,
+                dependencies: dict[str, str]) -> str:
+    def cell(value: object) -> str:
         if isinstance(value, float):
             return f"{value:.6g}"
         if isinstance(value, (list, tuple)):

@@ -19,6 +19,9 @@ nothing.
 Modules, one per algorithm family: ``measures``, ``differential``, ``metrics``.
 """
 from .differential import (
+    Eigenpairs,
+    MeanCurvature,
+    PrincipalCurvatures,
     cotan_laplacian,
     face_normals,
     gaussian_curvature,
@@ -33,7 +36,9 @@ from .differential import (
 )
 from .measures import face_areas, surface_area, volume
 from .metrics import (
+    ClosestPoints,
     SurfaceDistance,
+    SurfaceDistances,
     TriangleDistortion,
     hausdorff_distance,
     mean_surface_distance,
@@ -43,4 +48,5 @@ from .metrics import (
 __all__ = ["face_areas", "surface_area", "volume", "face_normals", "vertex_normals", "cotan_laplacian",
            "uniform_laplacian", "mean_value_laplacian", "mass_matrix", "vertex_areas", "gaussian_curvature",
            "mean_curvature", "principal_curvatures", "laplacian_eigenpairs", "TriangleDistortion",
-           "triangle_distortion", "SurfaceDistance", "hausdorff_distance", "mean_surface_distance"]
+           "triangle_distortion", "SurfaceDistance", "hausdorff_distance", "mean_surface_distance",
+           "MeanCurvature", "PrincipalCurvatures", "Eigenpairs", "ClosestPoints", "SurfaceDistances"]

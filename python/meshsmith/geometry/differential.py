@@ -2,21 +2,51 @@
 """
 from __future__ import annotations
 
+from typing import Any, NamedTuple
+
 import numpy as np
 import scipy.sparse
 
+from .. import _arguments
 from .._core import core as _core_checks
 from .._core import geometry as _geometry
+from .._deprecation import positional_options
+from .._typing import ArrayLike, FloatArray, ProgressCallback
 
-__all__ = ["face_normals", "vertex_normals", "cotan_laplacian", "uniform_laplacian", "mean_value_laplacian", "mass_matrix", "vertex_areas", "gaussian_curvature", "mean_curvature", "principal_curvatures", "laplacian_eigenpairs"]
+__all__ = ["face_normals", "vertex_normals", "cotan_laplacian", "uniform_laplacian", "mean_value_laplacian",
+           "mass_matrix", "vertex_areas", "gaussian_curvature", "MeanCurvature", "mean_curvature",
+           "PrincipalCurvatures", "principal_curvatures", "Eigenpairs", "laplacian_eigenpairs"]
 
 
-def _csc(parts) -> scipy.sparse.csc_matrix:
+class MeanCurvature(NamedTuple):
+    """Result of :func:`mean_curvature`; unpacks as ``H, Hn``."""
+
+    H: FloatArray   #: (n,) signed mean curvature, per unit length (1/r on a sphere of radius r)
+    Hn: FloatArray  #: (n, 3) mean-curvature normal H n
+
+
+class PrincipalCurvatures(NamedTuple):
+    """Result of :func:`principal_curvatures`; unpacks as ``k1, k2, d1, d2``."""
+
+    k1: FloatArray  #: (n,) largest principal curvature, per unit length
+    k2: FloatArray  #: (n,) smallest principal curvature (k2 <= k1)
+    d1: FloatArray  #: (n, 3) unit direction of k1
+    d2: FloatArray  #: (n, 3) unit direction of k2, d2 = n x d1
+
+
+class Eigenpairs(NamedTuple):
+    """Result of :func:`laplacian_eigenpairs`; unpacks as ``values, vectors``."""
+
+    values: FloatArray   #: (k,) ascending eigenvalues
+    vectors: FloatArray  #: (n, k) M-orthonormal eigenvectors, column j for values[j]
+
+
+def _csc(parts: Any) -> scipy.sparse.csc_matrix:
     data, indices, indptr, rows, cols = parts
     return scipy.sparse.csc_matrix((data, indices, indptr), shape=(rows, cols))
 
 
-def face_normals(V, F) -> np.ndarray:
+def face_normals(V: ArrayLike, F: ArrayLike) -> FloatArray:
     """Unit normals of the faces: ``(p1 - p0) x (p2 - p0)`` normalised.
 
     V: (n, 3) float array of vertex positions. F: (m, 3) int array of triangles,
@@ -29,7 +59,8 @@ def face_normals(V, F) -> np.ndarray:
     return _geometry.face_normals(V, F)
 
 
-def vertex_normals(V, F, weighting: str = "angle") -> np.ndarray:
+@positional_options("weighting")
+def vertex_normals(V: ArrayLike, F: ArrayLike, *, weighting: str = "angle") -> FloatArray:
     """Unit vertex normals: the weighted sum of the incident face normals, normalised (§1.2.4).
 
     V: (n, 3) float array. F: (m, 3) int array. weighting: ``"uniform"`` (each incident face
@@ -43,7 +74,7 @@ def vertex_normals(V, F, weighting: str = "angle") -> np.ndarray:
     return _geometry.vertex_normals(V, F, weighting)
 
 
-def cotan_laplacian(V, F) -> scipy.sparse.csc_matrix:
+def cotan_laplacian(V: ArrayLike, F: ArrayLike) -> scipy.sparse.csc_matrix:
     """Cotangent Laplacian (§3.0.2 cot-weights), libigl's sign: negative semi-definite.
 
     ``L[i, j] = (cot(alpha_ij) + cot(beta_ij)) / 2`` for every edge ij (one cotangent on a
@@ -60,7 +91,7 @@ def cotan_laplacian(V, F) -> scipy.sparse.csc_matrix:
     return _csc(_geometry.cotan_laplacian(V, F))
 
 
-def uniform_laplacian(first, second=None, *, normalized: bool = False) -> scipy.sparse.csc_matrix:
+def uniform_laplacian(first: ArrayLike, second: ArrayLike | int | None = None, *, normalized: bool = False) -> scipy.sparse.csc_matrix:
     """Graph Laplacian with uniform weights (§3.0.2): ``L[i, j] = 1`` per edge, ``L[i, i] = -deg(i)``.
 
     Call as ``uniform_laplacian(F, n)`` (F: (m, 3) int array, n: the number of vertices,
@@ -72,19 +103,14 @@ def uniform_laplacian(first, second=None, *, normalized: bool = False) -> scipy.
 
     Raises InputError for an empty F, n < 1, an index of F outside ``[0, n)``, or bad V.
     """
-    if second is not None and np.ndim(second) == 2:  # (V, F)
-        V, F = first, second
-        _core_checks.validate_mesh(V, F)
-        n = len(V)
-    else:
-        F, n = first, second
-        if n is None:
-            faces = np.asarray(F)
-            n = int(faces.max()) + 1 if faces.size and np.issubdtype(faces.dtype, np.integer) else 1
-    return _csc(_geometry.uniform_laplacian(F, int(n), bool(normalized)))
+    if second is None or np.isscalar(second) or (isinstance(second, np.ndarray) and second.ndim == 0):
+        return _csc(_geometry.uniform_laplacian(first, second, bool(normalized)))  # (F, n): the core checks n
+    V, F = first, second
+    _core_checks.validate_mesh(V, F)
+    return _csc(_geometry.uniform_laplacian(F, len(_arguments.real_array(V, "V", 3)), bool(normalized)))
 
 
-def mean_value_laplacian(V, F) -> scipy.sparse.csc_matrix:
+def mean_value_laplacian(V: ArrayLike, F: ArrayLike) -> scipy.sparse.csc_matrix:
     """Mean-value Laplacian (§3.0.2 mean value weights; Floater 2003). Not symmetric.
 
     ``L[i, j] = (tan(alpha_ij / 2) + tan(beta_ij / 2)) / |p_j - p_i|``, where alpha_ij and
@@ -100,7 +126,8 @@ def mean_value_laplacian(V, F) -> scipy.sparse.csc_matrix:
     return _csc(_geometry.mean_value_laplacian(V, F))
 
 
-def mass_matrix(V, F, kind: str = "voronoi") -> scipy.sparse.csc_matrix:
+@positional_options("kind")
+def mass_matrix(V: ArrayLike, F: ArrayLike, *, kind: str = "voronoi") -> scipy.sparse.csc_matrix:
     """Lumped (diagonal) mass matrix, equal to ``igl.massmatrix``.
 
     kind: ``"voronoi"`` (default): mixed Voronoi areas (Meyer et al. 2003): the Voronoi cell
@@ -116,7 +143,8 @@ def mass_matrix(V, F, kind: str = "voronoi") -> scipy.sparse.csc_matrix:
     return _csc(_geometry.mass_matrix(V, F, kind))
 
 
-def vertex_areas(V, F, kind: str = "voronoi") -> np.ndarray:
+@positional_options("kind")
+def vertex_areas(V: ArrayLike, F: ArrayLike, *, kind: str = "voronoi") -> FloatArray:
     """The diagonal of :func:`mass_matrix` as an (n,) float array (same ``kind`` options).
 
     Raises InputError for bad (V, F) or an unknown kind.
@@ -124,8 +152,8 @@ def vertex_areas(V, F, kind: str = "voronoi") -> np.ndarray:
     return _geometry.vertex_areas(V, F, kind)
 
 
-def gaussian_curvature(V, F, *, pointwise: bool = False, boundary: str = "full_turn",
-                       area: str = "voronoi") -> np.ndarray:
+def gaussian_curvature(V: ArrayLike, F: ArrayLike, *, pointwise: bool = False, boundary: str = "full_turn",
+                       area: str = "voronoi") -> FloatArray:
     """Discrete Gaussian curvature as angle defect (§1.2.4: ``K = (2 pi - sum_i alpha_i) / A``).
 
     By default the integrated curvature ``2 pi - sum(theta)`` of the corner angles theta at each
@@ -139,6 +167,11 @@ def gaussian_curvature(V, F, *, pointwise: bool = False, boundary: str = "full_t
     pointwise: divide by the vertex area of ``area`` (``"voronoi"`` mixed area by default, or
     ``"barycentric"``) to get curvature per unit area (0 where the area is 0).
 
+    Units: the default (integrated) value is an angle in radians, dimensionless (the same on a
+    scaled copy of the mesh); the pointwise value is per unit area, 1/length² (1/r² on a
+    sphere of radius r). ``meshsmith curvature --kind gaussian`` writes the integrated value
+    too, and the pointwise one with ``--pointwise``.
+
     V: (n, 3) float array. F: (m, 3) int array. Returns an (n,) float array. A vertex used by
     no face has angle sum 0: integrated value 2 pi (as libigl), pointwise value 0.
 
@@ -147,7 +180,7 @@ def gaussian_curvature(V, F, *, pointwise: bool = False, boundary: str = "full_t
     return _geometry.gaussian_curvature(V, F, boundary, bool(pointwise), area)
 
 
-def mean_curvature(V, F, *, area: str = "voronoi") -> tuple[np.ndarray, np.ndarray]:
+def mean_curvature(V: ArrayLike, F: ArrayLike, *, area: str = "voronoi") -> MeanCurvature:
     """Mean curvature H and the mean-curvature normal Hn from the cotangent Laplacian (§1.2.4).
 
     ``Hn = -1/2 M^-1 L V`` with L = :func:`cotan_laplacian` and M = :func:`mass_matrix` of kind
@@ -155,18 +188,17 @@ def mean_curvature(V, F, *, area: str = "voronoi") -> tuple[np.ndarray, np.ndarr
     signed by ``Hn . n`` with n the angle-weighted vertex normal: H > 0 on a sphere with
     outward normals (H = 1/r), and Hn then points outward.
 
-    V: (n, 3) float array. F: (m, 3) int array. Returns ``(H, Hn)``: (n,) and (n, 3) float
-    arrays. Vertices with zero area get 0. At boundary vertices ``L V`` holds a boundary term,
+    V: (n, 3) float array. F: (m, 3) int array. Returns a :class:`MeanCurvature` ``(H, Hn)``:
+    (n,) and (n, 3) float arrays, per unit length (pointwise, not integrated). Vertices with zero area get 0. At boundary vertices ``L V`` holds a boundary term,
     so the values there do not estimate the surface's curvature.
 
     Raises InputError for bad (V, F) or an unknown area kind.
     """
     H, Hn = _geometry.mean_curvature(V, F, area)
-    return H, Hn
+    return MeanCurvature(H, Hn)
 
 
-def principal_curvatures(V, F, *, method: str = "quadric_fit"
-                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def principal_curvatures(V: ArrayLike, F: ArrayLike, *, method: str = "quadric_fit") -> PrincipalCurvatures:
     """Principal curvatures k1 >= k2 and their unit directions at every vertex (§1.2.1).
 
     method:
@@ -190,19 +222,19 @@ def principal_curvatures(V, F, *, method: str = "quadric_fit"
     1280-face icosphere) and 5% (a 128x64 torus), where ``"quadric_fit"`` errs by about 2% and
     1%. The signs agree: positive where the surface bends away from its outward normal.
 
-    V: (n, 3) float array. F: (m, 3) int array. Returns ``(k1, k2, d1, d2)``: (n,), (n,),
-    (n, 3), (n, 3) float arrays; d1, d2 are unit vectors tangent to the vertex normal n, with
+    V: (n, 3) float array. F: (m, 3) int array. Returns a :class:`PrincipalCurvatures`
+    ``(k1, k2, d1, d2)``: (n,), (n,), (n, 3), (n, 3) float arrays, k1 and k2 per unit length; d1, d2 are unit vectors tangent to the vertex normal n, with
     d2 = n x d1. Vertices without a usable neighbourhood (unused, fewer than 5 neighbours,
     only degenerate faces) get zeros.
 
     Raises InputError for bad (V, F) or an unknown method.
     """
     k1, k2, d1, d2 = _geometry.principal_curvatures(V, F, method)
-    return k1, k2, d1, d2
+    return PrincipalCurvatures(k1, k2, d1, d2)
 
 
-def laplacian_eigenpairs(V, F, k: int, *, mass: str = "voronoi", progress=None
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def laplacian_eigenpairs(V: ArrayLike, F: ArrayLike, k: int, *, mass: str = "voronoi",
+                         progress: ProgressCallback = None) -> Eigenpairs:
     """The k smallest eigenpairs of ``-L u = lambda M u`` (the mesh's Laplace-Beltrami spectrum).
 
     L = :func:`cotan_laplacian`, M = :func:`mass_matrix` of kind ``mass``. Solved with Spectra's
@@ -211,7 +243,7 @@ def laplacian_eigenpairs(V, F, k: int, *, mass: str = "voronoi", progress=None
 
     V: (n, 3) float array. F: (m, 3) int array. k: 1 <= k < n. progress: optional callable
     ``(fraction, stage) -> bool``; returning False raises :class:`meshsmith.Cancelled`.
-    Returns ``(values, vectors)``: (k,) ascending eigenvalues (the first ~0 on a connected
+    Returns an :class:`Eigenpairs` ``(values, vectors)``: (k,) ascending eigenvalues (the first ~0 on a connected
     mesh) and an (n, k) array of M-orthonormal eigenvectors (``U.T @ M @ U = I``), each signed
     so that its largest-magnitude entry is positive.
 
@@ -219,4 +251,5 @@ def laplacian_eigenpairs(V, F, k: int, *, mass: str = "voronoi", progress=None
     positive definite: remove unreferenced vertices first); SolverError if the factorisation
     or the iteration fails.
     """
-    return _geometry.laplacian_eigenpairs(V, F, int(k), mass, progress)
+    values, vectors = _geometry.laplacian_eigenpairs(V, F, k, mass, progress)
+    return Eigenpairs(values, vectors)

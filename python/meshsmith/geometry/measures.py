@@ -2,14 +2,13 @@
 """
 from __future__ import annotations
 
-import numpy as np
-
 from .._core import geometry as _geometry
+from .._typing import ArrayLike, FloatArray
 
 __all__ = ["face_areas", "surface_area", "volume"]
 
 
-def face_areas(V, F) -> np.ndarray:
+def face_areas(V: ArrayLike, F: ArrayLike) -> FloatArray:
     """Area of each triangle, ``|(v1 - v0) x (v2 - v0)| / 2`` (libigl's ``doublearea / 2``).
 
     V: (n, 3) float array of positions, F: (m, 3) integer array of triangles.
@@ -19,7 +18,7 @@ def face_areas(V, F) -> np.ndarray:
     return _geometry.face_areas(V, F)
 
 
-def surface_area(V, F) -> float:
+def surface_area(V: ArrayLike, F: ArrayLike) -> float:
     """Total area of the triangles of (V, F), summed in a fixed order (deterministic).
 
     Raises InputError as :func:`face_areas`.
@@ -27,7 +26,7 @@ def surface_area(V, F) -> float:
     return float(_geometry.surface_area(V, F))
 
 
-def volume(V, F) -> float:
+def volume(V: ArrayLike, F: ArrayLike) -> float:
     """Signed volume enclosed by a closed surface (divergence theorem).
 
     Sum over faces of ``v0 . (v1 x v2) / 6``: positive when the faces are counter-clockwise seen

@@ -11,6 +11,7 @@ from .angle_based import AbfResult, abf, uv_from_angles
 from .bijectivity import BijectivityReport, check_bijectivity, is_bijective
 from .cut import CutMesh, cut_to_disk
 from .maps import (
+    PinnedVertices,
     StretchResult,
     default_lscm_pins,
     harmonic,
@@ -24,4 +25,4 @@ from .pipeline import PARAMETRIZATION_METHODS, Parametrization, parametrize
 __all__ = ["map_boundary", "harmonic", "StretchResult", "stretch_minimizing", "lscm", "default_lscm_pins",
            "lscm_spectral", "CutMesh", "cut_to_disk", "BijectivityReport", "check_bijectivity",
            "is_bijective", "PARAMETRIZATION_METHODS", "Parametrization", "parametrize", "AbfResult", "abf",
-           "uv_from_angles"]
+           "uv_from_angles", "PinnedVertices"]

@@ -4,17 +4,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass as _dataclass
 
-import numpy as np
-
 from .._core import parametrization as _core
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, ProgressCallback
 from ..repair.unreferenced import on_referenced_vertices
 
 __all__ = ["AbfResult", "abf", "uv_from_angles"]
 
 
 @_dataclass(frozen=True)
-class AbfResult:
-    """Result of :func:`abf` (m = number of faces, n = number of vertices).
+class AbfResult(Unpackable):
+    """Result of :func:`abf` (m = number of faces, n = number of vertices); unpacks in field order.
 
     uv (n, 2) float: the flattened vertex positions (NaN rows for vertices no face uses); every
       triangle is counter-clockwise (positive signed area) when the map is bijective.
@@ -28,16 +29,17 @@ class AbfResult:
     residual_history (iterations + 1,) float: the residual before the first step, then after each.
     """
 
-    uv: np.ndarray
-    angles: np.ndarray
-    optimal_angles: np.ndarray
+    uv: FloatArray
+    angles: FloatArray
+    optimal_angles: FloatArray
     iterations: int
     residual: float
-    residual_history: np.ndarray
+    residual_history: FloatArray
 
 
-def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: float = 1e-8,
-        minimum_angle: float = 1e-4, progress=None) -> AbfResult:
+@positional_options("method")
+def abf(V: ArrayLike, F: ArrayLike, *, method: str = "abf++", max_iterations: int = 30, tolerance: float = 1e-8,
+        minimum_angle: float = 1e-4, progress: ProgressCallback = None) -> AbfResult:
     """Angle-based flattening of a disk-topology mesh (§5.1.3; Sheffer & de Sturler 2001, ABF;
     Sheffer, Lévy, Mogilnitskaya & Bogart 2005, ABF++).
 
@@ -52,13 +54,14 @@ def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: flo
     one boundary loop, no zero-area face (needles are fine: their beta are clamped to
     minimum_angle); vertices no face uses get NaN rows in uv.
     method: "abf++" solves each Newton step through the reduced system of ABF++ (CHOLMOD on a
-    2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU (the same
-    iterates, much slower: for comparison). max_iterations bounds the Newton iterations;
+    2 x #interior-vertices SPD matrix); "abf" solves the full KKT system by sparse LU, its
+    unknowns ordered angles first (the same iterates, about twice as slow: for comparison). max_iterations bounds the Newton iterations;
     tolerance is on the constraint residual (infinity-norm, see :class:`AbfResult`).
     minimum_angle (radians, in (0, pi/6)) clamps beta. progress: optional callable
     ``(fraction, stage) -> bool`` called once per Newton iteration (stage
-    "ABF++ Newton iteration k, residual r"), throttled to one call per 50 ms; returning False
-    raises :class:`meshsmith.Cancelled`.
+    "ABF++ Newton iteration k, residual r") and, for "abf", around each factorization,
+    throttled to one call per 50 ms; returning False raises :class:`meshsmith.Cancelled`, and
+    Ctrl-C raises KeyboardInterrupt at the next call.
 
     Returns an :class:`AbfResult`. Raises InputError for a closed mesh (cut it first with
     ``parametrization.cut_to_disk``), several boundary loops or components, a non-manifold or
@@ -67,11 +70,12 @@ def abf(V, F, method: str = "abf++", *, max_iterations: int = 30, tolerance: flo
     if the residual is still above tolerance after max_iterations (the message gives it).
     """
     mesh = on_referenced_vertices(V, F)
-    result = _core.abf(mesh.V, mesh.F, method, int(max_iterations), float(tolerance), float(minimum_angle), progress)
+    result = _core.abf(mesh.V, mesh.F, method, max_iterations, float(tolerance), float(minimum_angle), progress)
     return AbfResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
 
 
-def uv_from_angles(F, angles, *, n_vertices: int | None = None, pinned=None, pinned_uv=None) -> np.ndarray:
+def uv_from_angles(F: ArrayLike, angles: ArrayLike, *, n_vertices: int | None = None, pinned: ArrayLike | None = None,
+                   pinned_uv: ArrayLike | None = None) -> FloatArray:
     """Planar layout of triangles with prescribed angles (the last step of ABF++, §5.1.3).
 
     For every face the sine law and the angle at one corner give a linear equation between
@@ -85,5 +89,4 @@ def uv_from_angles(F, angles, *, n_vertices: int | None = None, pinned=None, pin
     Returns (n_vertices, 2) float UV. Raises InputError for bad shapes, an angle outside
     (0, pi), bad pins or an unused vertex; SolverError if the faces are not edge-connected.
     """
-    pinned = None if pinned is None else np.reshape(np.asarray(pinned), (1, -1))
-    return _core.uv_from_angles(F, angles, -1 if n_vertices is None else int(n_vertices), pinned, pinned_uv)
+    return _core.uv_from_angles(F, angles, n_vertices, pinned, pinned_uv)  # the binding checks every argument

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from .._core import parametrization as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, IndexArray
 
 __all__ = ["BijectivityReport", "check_bijectivity", "is_bijective"]
 
 
 @dataclass(frozen=True)
-class BijectivityReport:
-    """The verdict of :func:`check_bijectivity`.
+class BijectivityReport(Unpackable):
+    """The verdict of :func:`check_bijectivity`; unpacks in field order.
 
     bijective: bool; orientation: +1 (all triangles counter-clockwise), -1 (all clockwise) or 0;
     degenerate_faces: (k,) int64 faces with collinear UV corners; flipped_faces: (k,) int64 faces
@@ -23,12 +23,12 @@ class BijectivityReport:
 
     bijective: bool
     orientation: int
-    degenerate_faces: np.ndarray
-    flipped_faces: np.ndarray
-    crossing_boundary_sides: np.ndarray
+    degenerate_faces: IndexArray
+    flipped_faces: IndexArray
+    crossing_boundary_sides: IndexArray
 
 
-def check_bijectivity(UV, F) -> BijectivityReport:
+def check_bijectivity(UV: ArrayLike, F: ArrayLike) -> BijectivityReport:
     """Check that the parametrization UV of F is one-to-one, and say why not.
 
     A disk map is bijective iff every UV triangle keeps one orientation (none flipped, none
@@ -43,6 +43,6 @@ def check_bijectivity(UV, F) -> BijectivityReport:
     return BijectivityReport(**_core.check_bijectivity(UV, F))
 
 
-def is_bijective(UV, F) -> bool:
+def is_bijective(UV: ArrayLike, F: ArrayLike) -> bool:
     """True when the parametrization UV of F is one-to-one (see :func:`check_bijectivity`)."""
     return check_bijectivity(UV, F).bijective

@@ -7,14 +7,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core import parametrization as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray
 from ..repair.unreferenced import ReferencedMesh, on_referenced_vertices
 
 __all__ = ["CutMesh", "cut_to_disk", "cut_on_input_vertices"]
 
 
 @dataclass(frozen=True)
-class CutMesh:
-    """A mesh cut open into a topological disk (:func:`cut_to_disk`).
+class CutMesh(Unpackable):
+    """A mesh cut open into a topological disk (:func:`cut_to_disk`); unpacks as
+    ``V_cut, F_cut, vertex_origin, seam_edges``.
 
     V: (k, 3) float64 positions, V[i] == input V[vertex_origin[i]]; F: (m, 3) int64, face f is
     the input face f on the copies of its corners; vertex_origin: (k,) int64, the input vertex of
@@ -22,17 +25,13 @@ class CutMesh:
     seam_edges: (c, 2) int64 input edges (i < j) cut open (empty for a disk).
     """
 
-    V: np.ndarray
-    F: np.ndarray
-    vertex_origin: np.ndarray
-    seam_edges: np.ndarray
-
-    def __iter__(self):
-        """Unpacks as ``V_cut, F_cut, seam = cut_to_disk(V, F)`` (seam: this object)."""
-        return iter((self.V, self.F, self))
+    V: FloatArray
+    F: IndexArray
+    vertex_origin: IndexArray
+    seam_edges: IndexArray
 
 
-def cut_to_disk(V, F) -> CutMesh:
+def cut_to_disk(V: ArrayLike, F: ArrayLike) -> CutMesh:
     """Cut a closed or higher-genus surface into one topological disk (§5.2.2 step 2).
 
     A breadth-first spanning tree of the triangles (across edges) is grown from face 0; the edges
@@ -41,8 +40,7 @@ def cut_to_disk(V, F) -> CutMesh:
     between two far-apart vertices. A disk comes back unchanged.
 
     V: (n, 3) float array, F: (m, 3) integer array.
-    Returns a :class:`CutMesh`; it unpacks as ``V_cut, F_cut, seam`` (``seam.seam_edges``,
-    ``seam.vertex_origin``).
+    Returns a :class:`CutMesh`; it unpacks as ``V_cut, F_cut, vertex_origin, seam_edges``.
     Vertices no face uses stay in V, unreferenced (the cut runs on the others).
     Raises InputError for a mesh that is non-manifold or not oriented (clean it first with
     :func:`meshsmith.repair.clean`), has several components or zero-area / repeated-index faces.
@@ -51,7 +49,7 @@ def cut_to_disk(V, F) -> CutMesh:
     return cut_on_input_vertices(CutMesh(**_core.cut_to_disk(mesh.V, mesh.F)), mesh, V)
 
 
-def cut_on_input_vertices(cut: CutMesh, mesh: ReferencedMesh, V) -> CutMesh:
+def cut_on_input_vertices(cut: CutMesh, mesh: ReferencedMesh, V: ArrayLike) -> CutMesh:
     """A cut of the referenced part `mesh` of the input (V, F), renumbered onto the input: its
     first n vertices are V's (the unreferenced ones stay unused), the seam copies appended."""
     if not mesh.removed:

@@ -5,17 +5,31 @@ answers on the caller's vertex indices: NaN rows of UV for unreferenced vertices
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
-
-import numpy as np
+from typing import NamedTuple
 
 from .._core import parametrization as _core
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from ..repair.unreferenced import on_referenced_vertices
 
-__all__ = ["map_boundary", "harmonic", "StretchResult", "stretch_minimizing", "lscm", "default_lscm_pins", "lscm_spectral"]
+__all__ = ["PinnedVertices", "map_boundary", "harmonic", "StretchResult", "stretch_minimizing", "lscm",
+           "default_lscm_pins", "lscm_spectral"]
 
 
-def map_boundary(V, F, shape: str = "circle", boundary=None) -> tuple[np.ndarray, np.ndarray]:
+class PinnedVertices(NamedTuple):
+    """Vertices with prescribed UV positions (:func:`map_boundary`, :func:`default_lscm_pins`);
+    unpacks as ``indices, uv``, which :func:`harmonic` and :func:`lscm` take as their
+    ``boundary, boundary_uv`` and ``pinned, pinned_uv``."""
+
+    indices: IndexArray  #: (b,) vertex indices
+    uv: FloatArray       #: (b, 2) their positions
+
+
+def map_boundary(V: ArrayLike, F: ArrayLike, boundary: ArrayLike | None = None, *,
+                 shape: str = "circle") -> PinnedVertices:
     """Map a boundary loop onto a convex polygon with arc-length spacing (§5, §5.1.1 step 1).
 
     V: (n, 3) float array, F: (m, 3) integer array.
@@ -24,18 +38,24 @@ def map_boundary(V, F, shape: str = "circle", boundary=None) -> tuple[np.ndarray
         counter-clockwise; the loop vertices nearest each quarter of the arc length are the corners).
     boundary: (b,) vertex indices of an ordered loop; default: the longest boundary loop of F,
         walked along the faces' orientation (so the map keeps triangles counter-clockwise).
-    Returns (boundary_indices (b,) int64, boundary_uv (b, 2) float64).
+    Returns a :class:`PinnedVertices` (boundary_indices (b,) int64, boundary_uv (b, 2) float64).
     Raises InputError for a mesh that is not a clean, connected, oriented manifold with a boundary
     (a closed mesh: cut it with :func:`cut_to_disk`), or a bad loop.
+    The 0.1 form ``map_boundary(V, F, "square")`` (shape third) still works, with a DeprecationWarning.
     """
+    if isinstance(boundary, str):
+        warnings.warn("map_boundary(): pass shape= by keyword; the boundary loop is the third argument since "
+                      "meshsmith 0.2.0", DeprecationWarning, stacklevel=2)
+        shape, boundary = boundary, None
     mesh = on_referenced_vertices(V, F)
     loop = None if boundary is None else mesh.from_input_indices(boundary, "boundary")
     indices, uv = _core.map_boundary(mesh.V, mesh.F, shape, loop)
-    return mesh.to_input_indices(indices), uv
+    return PinnedVertices(mesh.to_input_indices(indices), uv)
 
 
-def harmonic(V, F, boundary=None, boundary_uv=None, weights: str = "uniform", *,
-             shape: str = "circle") -> np.ndarray:
+@positional_options("weights")
+def harmonic(V: ArrayLike, F: ArrayLike, boundary: ArrayLike | None = None, boundary_uv: ArrayLike | None = None, *,
+             weights: str = "uniform", shape: str = "circle") -> FloatArray:
     """Harmonic parametrization with a fixed boundary (§5.1.1): sum_j w_ij (u_j - u_i) = 0 inside.
 
     V: (n, 3) float array, F: (m, 3) integer array.
@@ -56,21 +76,22 @@ def harmonic(V, F, boundary=None, boundary_uv=None, weights: str = "uniform", *,
 
 
 @dataclass(frozen=True)
-class StretchResult:
-    """The result of :func:`stretch_minimizing`.
+class StretchResult(Unpackable):
+    """The result of :func:`stretch_minimizing`; unpacks as ``uv, stretch, best_iteration``.
 
     uv: (n, 2) float64, the map of lowest stretch met (NaN rows for vertices no face uses); stretch: (k,) float64, Sander et al.'s
     scale-invariant L2 stretch (1 for an isometry up to scale) of the harmonic start (entry 0)
     and after every reweighting step; best_iteration: the index into `stretch` of `uv`.
     """
 
-    uv: np.ndarray
-    stretch: np.ndarray
+    uv: FloatArray
+    stretch: FloatArray
     best_iteration: int
 
 
-def stretch_minimizing(V, F, iterations: int = 10, *, weights: str = "mean_value", shape: str = "circle",
-                       progress=None) -> StretchResult:
+@positional_options("iterations")
+def stretch_minimizing(V: ArrayLike, F: ArrayLike, *, iterations: int = 10, weights: str = "mean_value",
+                       shape: str = "circle", progress: ProgressCallback = None) -> StretchResult:
     """Stretch-minimizing parametrization of a disk (§5.1.1; Yoshizawa, Belyaev & Seidel 2004).
 
     Starts from :func:`harmonic` with `weights` on the `shape` boundary, then repeats: per-vertex
@@ -88,7 +109,8 @@ def stretch_minimizing(V, F, iterations: int = 10, *, weights: str = "mean_value
     return StretchResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
 
 
-def lscm(V, F, pinned=None, pinned_uv=None) -> np.ndarray:
+def lscm(V: ArrayLike, F: ArrayLike, pinned: ArrayLike | None = None, pinned_uv: ArrayLike | None = None
+         ) -> FloatArray:
     """Least-squares conformal map with pinned vertices (§5.1.2; Lévy et al. 2002).
 
     Minimizes sum over triangles of A |grad v - R90 grad u|^2 (twice the conformal energy
@@ -109,14 +131,15 @@ def lscm(V, F, pinned=None, pinned_uv=None) -> np.ndarray:
     return mesh.to_input_rows(_core.lscm(mesh.V, mesh.F, pins, pinned_uv))
 
 
-def default_lscm_pins(V, F) -> tuple[np.ndarray, np.ndarray]:
-    """The pins :func:`lscm` uses when none are given: (indices (2,) int64, uv (2, 2) float64)."""
+def default_lscm_pins(V: ArrayLike, F: ArrayLike) -> PinnedVertices:
+    """The pins :func:`lscm` uses when none are given: a :class:`PinnedVertices` (indices (2,)
+    int64, uv (2, 2) float64)."""
     mesh = on_referenced_vertices(V, F)
     indices, uv = _core.default_lscm_pins(mesh.V, mesh.F)
-    return mesh.to_input_indices(indices), uv
+    return PinnedVertices(mesh.to_input_indices(indices), uv)
 
 
-def lscm_spectral(V, F) -> np.ndarray:
+def lscm_spectral(V: ArrayLike, F: ArrayLike) -> FloatArray:
     """Spectral conformal parametrization: LSCM with a free boundary and no pins (Mullen et al. 2008).
 
     The generalized eigenvector x of Q x = lambda B x (Q: the LSCM/conformal energy matrix,

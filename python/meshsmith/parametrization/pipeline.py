@@ -6,13 +6,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import core, geometry, topology
+from .. import _arguments, core, geometry, topology
 from .._core import InputError
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..geometry import TriangleDistortion
+from ..repair.unreferenced import on_referenced_vertices
 from .angle_based import abf
 from .bijectivity import is_bijective
 from .cut import CutMesh, cut_to_disk
 from .maps import harmonic, lscm, stretch_minimizing
-from ..repair.unreferenced import on_referenced_vertices
 
 __all__ = ["PARAMETRIZATION_METHODS", "Parametrization", "parametrize"]
 
@@ -29,8 +33,9 @@ PARAMETRIZATION_METHODS = {
 
 
 @dataclass(frozen=True)
-class Parametrization:
-    """A parametrization made by :func:`parametrize`, with its quality.
+class Parametrization(Unpackable):
+    """A parametrization made by :func:`parametrize`, with its quality; unpacks in field order
+    (``V, F, uv, cut, method, distortion, bijective``).
 
     V, F: the mesh the texture coordinates belong to (the input, or the input cut to disks);
     uv: (k, 2) float64, one row per vertex of V (NaN rows for vertices no face uses); cut: the
@@ -39,12 +44,12 @@ class Parametrization:
     :class:`meshsmith.geometry.TriangleDistortion` of the map; bijective: :func:`is_bijective`.
     """
 
-    V: np.ndarray
-    F: np.ndarray
-    uv: np.ndarray
+    V: FloatArray
+    F: IndexArray
+    uv: FloatArray
     cut: CutMesh | None
     method: str
-    distortion: object
+    distortion: TriangleDistortion
     bijective: bool
 
     def summary(self) -> dict[str, object]:
@@ -66,7 +71,9 @@ class Parametrization:
                 "seam edges": 0 if self.cut is None else int(len(self.cut.seam_edges))}
 
 
-def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization:
+@positional_options("method")
+def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: ProgressCallback = None
+                ) -> Parametrization:
     """Parametrize any clean manifold mesh with one of :data:`PARAMETRIZATION_METHODS`.
 
     Each connected component is a chart: one that is not a topological disk (closed, higher
@@ -74,11 +81,13 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
     laid side by side along u (in component order, each to the right of the previous one, a gap
     of 5% of the tallest chart between them), so the atlas is bijective when every chart is.
     "abf" / "abf++" use :func:`abf`. Vertices no face uses are left out and get NaN rows in uv.
-    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback (stretch only).
+    V: (n, 3) float array, F: (m, 3) integer array; progress: optional callback
+    ``(fraction, stage) -> bool`` of the method's own iterations (stretch, abf, abf++).
     Returns a :class:`Parametrization`. Raises InputError for an unknown method or bad input
     (a non-manifold or inconsistently oriented mesh: clean it first with
     :func:`meshsmith.repair.clean`, ``meshsmith clean`` on the command line; see :func:`cut_to_disk`).
     """
+    _arguments.progress(progress)  # checked here: not every method calls it
     if method not in PARAMETRIZATION_METHODS:
         raise InputError(f"unknown parametrization method {method!r}: expected one of "
                          + ", ".join(PARAMETRIZATION_METHODS))
@@ -125,7 +134,7 @@ def parametrize(V, F, method: str = "lscm", *, progress=None) -> Parametrization
                            is_bijective(used_uv, F_out))
 
 
-def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress) -> tuple[CutMesh | None, np.ndarray]:
+def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress: ProgressCallback) -> tuple[CutMesh | None, np.ndarray]:
     """One chart (a connected mesh, every vertex used): (its cut or None, UV on the cut's vertices)."""
     # Only the topology is needed (topology.info would also compute the area and volume, which
     # are InputErrors for coordinates near 1e155 and beyond).
@@ -143,5 +152,5 @@ def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress) -> tuple
     elif method == "lscm":
         uv = lscm(V, F)
     else:
-        uv = abf(V, F, method=method).uv
+        uv = abf(V, F, method=method, progress=progress).uv
     return cut, uv

@@ -17,8 +17,10 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components as _graph_components
 
-from .. import core, topology
+from .. import _arguments, core, topology
 from .._core import InputError
+from .._results import Unpackable
+from .._typing import ArrayLike
 from ..points import KdTree
 from .orient import orient_faces
 from .unreferenced import remove_unreferenced
@@ -43,7 +45,7 @@ CLEAN_COUNTS = {
 
 
 @dataclass(frozen=True)
-class CleanReport:
+class CleanReport(Unpackable):
     """What :func:`clean` changed (counts), and where each output element comes from.
 
     Counts (ints): merged_vertices (input vertices merged into another one), degenerate_faces
@@ -106,7 +108,7 @@ class CleanMesh(NamedTuple):
     report: CleanReport
 
 
-def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def merge_close_vertices(V: ArrayLike, *, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Groups of vertices closer than or at `tolerance`, joined transitively.
 
     V: (n, 3) float array; tolerance >= 0 (0: exactly equal positions; -0.0 equals 0.0).
@@ -123,15 +125,15 @@ def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndar
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance >= 0):
         raise InputError(f"merge tolerance must be a finite number >= 0, got {tolerance!r}")
-    P = np.asarray(V, dtype=np.float64)
-    if P.ndim != 2 or P.shape[1] != 3 or not len(P):
-        raise InputError(f"V must be a non-empty (n, 3) array, got shape {P.shape}")
+    P = _arguments.real_array(V, "V", 3)
+    if not len(P):
+        raise InputError("V is empty: expected a non-empty (n, 3) array")
     if not np.isfinite(P).all():
         row = int(np.flatnonzero(~np.isfinite(P).all(axis=1))[0])
         raise InputError(f"V row {row} is not finite")
     _, first, exact = np.unique(P + 0.0, axis=0, return_index=True, return_inverse=True)
     exact = exact.reshape(-1)
-    label = np.arange(len(first))
+    label: np.ndarray = np.arange(len(first))
     if tolerance > 0 and len(first) > 1:
         distinct = P[first]
         offsets, neighbours, _ = KdTree(distinct).query_radius(distinct, np.nextafter(tolerance, np.inf))
@@ -148,7 +150,7 @@ def merge_close_vertices(V, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndar
     return renumber[cluster].astype(np.int64), representative[order]
 
 
-def clean(V, F, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool = True,
+def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool = True,
           split_non_manifold: bool = True, orient: bool = True, min_component_faces: int = 0) -> CleanMesh:
     """Clean a triangle mesh and say exactly what changed (§2.4).
 
@@ -174,16 +176,14 @@ def clean(V, F, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool 
     :class:`CleanReport` with the counts and the maps back to the input. If every face is
     removed, V and F are empty. Raises InputError for bad input or options.
     """
-    if isinstance(min_component_faces, bool) or not isinstance(min_component_faces, (int, np.integer)) \
-            or min_component_faces < 0:
-        raise InputError(f"min_component_faces must be an integer >= 0, got {min_component_faces!r}")
+    min_component_faces = _arguments.integer(min_component_faces, "min_component_faces", 0, 2 ** 63 - 1)
     counts = dict.fromkeys(CLEAN_COUNTS, 0)
     V1, F1, vertex_map = remove_unreferenced(V, F)
     counts["unreferenced_vertices"] = len(np.asarray(V)) - len(V1)
     face_map = np.arange(len(F1), dtype=np.int64)
 
     if merge_tolerance is not None:
-        group, representatives = merge_close_vertices(V1, merge_tolerance)
+        group, representatives = merge_close_vertices(V1, tolerance=merge_tolerance)
         if len(representatives) < len(V1):
             counts["merged_vertices"] = len(V1) - len(representatives)
             V1, F1, vertex_map = V1[representatives], group[F1], vertex_map[representatives]

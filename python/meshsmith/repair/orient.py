@@ -7,12 +7,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._core import repair as _core
+from .._results import Unpackable
+from .._typing import ArrayLike
 
 __all__ = ["OrientedFaces", "orient_faces"]
 
 
 @dataclass(frozen=True)
-class OrientedFaces:
+class OrientedFaces(Unpackable):
     """The result of :func:`orient_faces`; unpacks as ``F, flipped``.
 
     F: (m, 3) int64, the input faces with those in `flipped` reversed; flipped: (k,) int64 faces
@@ -27,11 +29,10 @@ class OrientedFaces:
     closed_components: int
     non_orientable_components: int
 
-    def __iter__(self):
-        return iter((self.F, self.flipped))
+    unpacks = ("F", "flipped")
 
 
-def orient_faces(V, F) -> OrientedFaces:
+def orient_faces(V: ArrayLike, F: ArrayLike) -> OrientedFaces:
     """Orient every component of a mesh consistently, closed components outward.
 
     Faces are joined across edges with exactly two faces; a breadth-first walk from each

@@ -7,14 +7,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import core as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, IndexArray
 
 __all__ = ["ReferencedMesh", "remove_unreferenced", "on_referenced_vertices"]
 
 
 @dataclass(frozen=True)
-class ReferencedMesh:
+class ReferencedMesh(Unpackable):
     """The result of :func:`remove_unreferenced`; unpacks as ``V, F, vertex_map``.
 
     V: (k, 3) float64, the vertices some face uses, in their input order; F: (m, 3) int64, the
@@ -28,18 +31,20 @@ class ReferencedMesh:
     vertex_map: np.ndarray
     input_vertex_count: int
 
-    def __iter__(self):
-        return iter((self.V, self.F, self.vertex_map))
+    unpacks = ("V", "F", "vertex_map")
 
     @property
     def removed(self) -> int:
         """How many input vertices no face uses."""
         return self.input_vertex_count - len(self.vertex_map)
 
-    def to_input_rows(self, values, fill=np.nan) -> np.ndarray:
+    def to_input_rows(self, values: ArrayLike, fill: float = np.nan) -> np.ndarray:
         """Per-vertex values of this mesh, (k, ...) -> (n, ...) on the input's vertex indices,
         `fill` (NaN by default) in the rows of the unreferenced vertices."""
-        values = np.asarray(values)
+        values = _arguments.numbers(values, "values")
+        if values.ndim == 0 or len(values) != len(self.vertex_map):
+            raise InputError(f"values has shape {values.shape}: expected one row per vertex of the mesh "
+                             f"({len(self.vertex_map)}, ...)")
         if self.removed == 0:
             return values
         dtype = np.result_type(values.dtype, np.asarray(fill).dtype)
@@ -47,18 +52,19 @@ class ReferencedMesh:
         out[self.vertex_map] = values
         return out
 
-    def to_input_indices(self, indices) -> np.ndarray:
+    def to_input_indices(self, indices: ArrayLike) -> IndexArray:
         """Vertex indices of this mesh -> the input's (int64, same shape)."""
-        return self.vertex_map[np.asarray(indices, dtype=np.int64)]
+        checked = _arguments.numbers(indices, "indices", "index").astype(np.int64)
+        outside = (checked < 0) | (checked >= len(self.vertex_map))
+        if outside.any():
+            raise InputError(f"indices: vertex {int(checked[outside].flat[0])} is outside [0, {len(self.vertex_map)})")
+        return self.vertex_map[checked]
 
-    def from_input_indices(self, indices, what: str = "vertex list") -> np.ndarray:
+    def from_input_indices(self, indices: ArrayLike, what: str = "vertex list") -> IndexArray:
         """The input's vertex indices -> this mesh's (int64, same shape).
 
         Raises InputError for an index outside [0, n) or a vertex no face uses (naming it)."""
-        indices = np.asarray(indices)
-        if indices.size and not np.issubdtype(indices.dtype, np.integer):
-            raise InputError(f"{what}: vertex indices must be integers, got {indices.dtype}")
-        indices = indices.astype(np.int64, copy=False)
+        indices = _arguments.numbers(indices, what, "index").astype(np.int64, copy=False)
         if self.removed == 0:
             return indices
         outside = (indices < 0) | (indices >= self.input_vertex_count)
@@ -72,7 +78,7 @@ class ReferencedMesh:
         return position
 
 
-def remove_unreferenced(V, F) -> ReferencedMesh:
+def remove_unreferenced(V: ArrayLike, F: ArrayLike) -> ReferencedMesh:
     """Remove the vertices no face uses (§2.4), keeping the others in their order.
 
     V: (n, 3) float array, F: (m, 3) integer array (m >= 1). Returns a :class:`ReferencedMesh`
@@ -86,7 +92,7 @@ def remove_unreferenced(V, F) -> ReferencedMesh:
     return ReferencedMesh(mesh.V.copy(), mesh.F.astype(np.int64), mesh.vertex_map, mesh.input_vertex_count)
 
 
-def on_referenced_vertices(V, F) -> ReferencedMesh:
+def on_referenced_vertices(V: ArrayLike, F: ArrayLike) -> ReferencedMesh:
     """:func:`remove_unreferenced` for algorithms that need every vertex used and map their
     results back (:meth:`ReferencedMesh.to_input_rows`, ``to_input_indices``,
     ``from_input_indices``): the same result, but without copying V and F when every vertex is

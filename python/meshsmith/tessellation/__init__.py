@@ -11,6 +11,7 @@ Bad input raises :class:`meshsmith.InputError`.
 Modules, one per algorithm family: ``delaunay``, ``contouring``.
 """
 from .contouring import (
+    MedialAxis,
     PowerDiagram,
     crust,
     crust_3d,
@@ -21,6 +22,9 @@ from .contouring import (
     sampling_ratio,
 )
 from .delaunay import (
+    FlippedTriangulation,
+    RefinedMesh,
+    Triangulation,
     VoronoiDiagram,
     constrained_delaunay,
     default_bounds,
@@ -33,4 +37,5 @@ from .delaunay import (
 
 __all__ = ["delaunay", "constrained_delaunay", "voronoi", "VoronoiDiagram", "flip_to_delaunay", "refine",
            "PowerDiagram", "power_diagram", "crust", "medial_axis", "local_feature_size", "sampling_ratio",
-           "is_r_sample", "crust_3d", "default_bounds", "triangle_angles"]
+           "is_r_sample", "crust_3d", "default_bounds", "triangle_angles", "Triangulation", "FlippedTriangulation",
+           "RefinedMesh", "MedialAxis"]

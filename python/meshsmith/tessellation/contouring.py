@@ -3,19 +3,33 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, NamedTuple, Sequence
 
 import numpy as np
 
+from .. import _arguments
 from .._core import InputError
 from .._core import tessellation as _core
+from .._deprecation import positional_options
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..core import Mesh
 from .delaunay import default_bounds
 
-__all__ = ["PowerDiagram", "power_diagram", "crust", "medial_axis", "local_feature_size", "sampling_ratio", "is_r_sample", "crust_3d"]
+__all__ = ["PowerDiagram", "power_diagram", "crust", "MedialAxis", "medial_axis", "local_feature_size",
+           "sampling_ratio", "is_r_sample", "crust_3d"]
+
+
+class MedialAxis(NamedTuple):
+    """Result of :func:`medial_axis`; unpacks as ``vertices, edges``."""
+
+    vertices: FloatArray  #: (k, 2) Voronoi vertices on the axis
+    edges: IndexArray     #: (e, 2) int64 pairs of them
 
 
 @dataclass
-class PowerDiagram:
-    """Result of power_diagram().
+class PowerDiagram(Unpackable):
+    """Result of power_diagram(); unpacks as ``triangulation, cells, hidden, bounds``.
 
     triangulation: (m, 3) CCW triangles (2D) or (m, 4) positively oriented tetrahedra (3D), int64
         indices into the sites: the regular (weighted Delaunay) triangulation. Empty (0 rows) when
@@ -29,13 +43,15 @@ class PowerDiagram:
     bounds: the box the cells were clipped to, (xmin, ymin, xmax, ymax[, zmin, zmax]).
     """
 
-    triangulation: np.ndarray
-    cells: list
-    hidden: np.ndarray
-    bounds: np.ndarray = field(repr=False)
+    triangulation: IndexArray
+    cells: list[Any]
+    hidden: IndexArray
+    bounds: FloatArray = field(repr=False)
 
 
-def power_diagram(P, weights, bounds=None) -> PowerDiagram:
+@positional_options("bounds")
+def power_diagram(P: ArrayLike, weights: ArrayLike, *, bounds: Sequence[float] | FloatArray | None = None
+                  ) -> PowerDiagram:
     """Power diagram of weighted sites in 2D or 3D (§2.1.4).
 
     The power distance of q to site i is |q - p_i|^2 - weights[i] (weights are squared radii);
@@ -51,18 +67,12 @@ def power_diagram(P, weights, bounds=None) -> PowerDiagram:
     Returns a PowerDiagram. Raises InputError for empty or non-finite input, a wrong number of
     weights, or an empty box.
     """
-    P_checked = np.asarray(P) if P is not None else P
-    if bounds is None:
-        if not isinstance(P_checked, np.ndarray) or P_checked.ndim != 2 or P_checked.shape[0] == 0 \
-                or P_checked.shape[1] not in (2, 3) or not np.all(np.isfinite(P_checked)):
-            bounds = np.zeros(4)  # let the core report what is wrong with P
-        else:
-            bounds = default_bounds(P_checked.astype(float))
-    triangulation, cells, hidden = _core.power_diagram(P, weights, bounds)
-    return PowerDiagram(triangulation, cells, hidden, np.asarray(bounds, dtype=float))
+    box = default_bounds(P) if bounds is None else _arguments.real_array(bounds, "bounds")
+    triangulation, cells, hidden = _core.power_diagram(P, weights, box)
+    return PowerDiagram(triangulation, cells, hidden, np.array(box))  # a copy: never the caller's array
 
 
-def crust(samples) -> np.ndarray:
+def crust(samples: ArrayLike) -> IndexArray:
     """Reconstruct closed curves from 2D samples by Voronoi filtering: the crust (§2.1.3).
 
     Delaunay triangulation of the samples together with their Voronoi vertices; the edges joining
@@ -75,7 +85,7 @@ def crust(samples) -> np.ndarray:
     return _core.crust(samples)
 
 
-def medial_axis(samples) -> tuple[np.ndarray, np.ndarray]:
+def medial_axis(samples: ArrayLike) -> MedialAxis:
     """Approximate medial axis (§2.1.2) of the curves sampled by `samples`.
 
     The Voronoi edges of the samples whose dual Delaunay edges are not crust edges: the Voronoi
@@ -86,13 +96,14 @@ def medial_axis(samples) -> tuple[np.ndarray, np.ndarray]:
     unbounded Voronoi rays, dual to the convex hull's edges that are not crust edges (the outer
     axis's branches running to infinity), are left out; so are the rays dual to crust edges on
     the hull, which cross the curve.
-    samples: (n, 2) real array (as crust). Returns (vertices (k, 2) float, edges (e, 2) int64).
-    Raises InputError as crust.
+    samples: (n, 2) real array (as crust). Returns a :class:`MedialAxis` (vertices (k, 2) float,
+    edges (e, 2) int64). Raises InputError as crust.
     """
-    return _core.medial_axis(samples)
+    vertices, edges = _core.medial_axis(samples)
+    return MedialAxis(vertices, edges)
 
 
-def local_feature_size(samples) -> np.ndarray:
+def local_feature_size(samples: ArrayLike) -> FloatArray:
     """Approximate local feature size LFS(p) = d(p, medial axis) of each sample (§2.1.2).
 
     The distance to the nearest vertex of medial_axis(samples) (Voronoi vertices approximate the
@@ -103,7 +114,7 @@ def local_feature_size(samples) -> np.ndarray:
     return _core.local_feature_size(samples)
 
 
-def sampling_ratio(samples) -> float:
+def sampling_ratio(samples: ArrayLike) -> float:
     """Estimated smallest R for which `samples` are an R-sample of their curve (§2.1.2).
 
     R-sample: every curve point c has a sample within R·LFS(c). The curve is taken to be the crust:
@@ -115,7 +126,7 @@ def sampling_ratio(samples) -> float:
     return float(_core.sampling_ratio(samples))
 
 
-def is_r_sample(samples, R: float) -> bool:
+def is_r_sample(samples: ArrayLike, R: float) -> bool:
     """Whether `samples` are an R-sample of the curve they describe: sampling_ratio(samples) <= R.
 
     samples: (n, 2) real array (as crust). R: positive number. Raises InputError as crust.
@@ -126,8 +137,8 @@ def is_r_sample(samples, R: float) -> bool:
     return sampling_ratio(samples) <= float(R)
 
 
-def crust_3d(points, *, cocone_angle: float = np.pi / 8,
-             max_hole_edges: int = 8, progress=None) -> tuple[np.ndarray, np.ndarray]:
+def crust_3d(points: ArrayLike, *, cocone_angle: float = np.pi / 8,
+             max_hole_edges: int = 8, progress: ProgressCallback = None) -> Mesh:
     """Reconstruct a triangle mesh from points sampled on a closed surface: Cocone (§2.1.3, 3D).
 
     The Cocone refinement (Amenta, Choi, Dey & Leekha 2002) of the 3D crust with poles: on the
@@ -147,10 +158,11 @@ def crust_3d(points, *, cocone_angle: float = np.pi / 8,
     points: (n, 3) real array, n >= 4, not coplanar, no duplicates. cocone_angle: radians in
     (0, pi/2), default pi/8. max_hole_edges: >= 0 (0 leaves holes open), default 8.
     progress: optional callback (fraction, stage) -> bool; returning False cancels.
-    Returns (V, F): V the points (n, 3) float, F (m, 3) int64 triangles oriented outwards.
+    Returns a :class:`meshsmith.core.Mesh` (V, F): V the points (n, 3) float, F (m, 3) int64 triangles oriented outwards.
     Manifold and watertight when the sampling is dense and free of noise. Samples needed
     (measured on random uniform samples, seeds 0-5): a sphere from 8, the torus of radii 1 and
     0.35 from 225 (about 2 samples per square minor radius); the result then keeps every point.
     Raises InputError if a precondition fails; Cancelled if progress returns False.
     """
-    return _core.crust_3d(points, float(cocone_angle), int(max_hole_edges), progress)
+    V, F = _core.crust_3d(points, float(cocone_angle), max_hole_edges, progress)
+    return Mesh(V, F)

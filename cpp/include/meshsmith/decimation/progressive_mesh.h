@@ -44,7 +44,7 @@ class ProgressiveMesh {
   ///        neighbours of v_s on the right sides, or would make the mesh non-manifold (the message
   ///        names the split).
   ProgressiveMesh(VertexMatrix base_V, FaceMatrix base_F, std::vector<VertexSplit> splits,
-                  std::vector<int> input_vertex_ids);
+                  std::vector<int> input_vertex_ids, const Progress& progress = {});
 
   Eigen::Index split_count() const { return static_cast<Eigen::Index>(splits_.size()); }
   Eigen::Index level() const { return level_; }
@@ -118,9 +118,10 @@ class ProgressiveMesh {
 /// \pre validate_mesh(V, F) passes; F is manifold, oriented, without faces that repeat a vertex;
 ///      `collapses` were performed on (V, F).
 /// \throw InputError if a precondition fails, if a collapse is inconsistent with the mesh it is replayed on (the message
-///        names it), or as the ProgressiveMesh constructor.
+///        names it), or as the ProgressiveMesh constructor. \throw Cancelled (progress, once per collapse).
 ProgressiveMesh progressive_mesh_from_collapses(const VertexRef& V, const FaceRef& F,
-                                                const std::vector<CollapseRecord>& collapses);
+                                                const std::vector<CollapseRecord>& collapses,
+                                                const Progress& progress = {});
 
 /// Decimates (V, F) with decimate_qem (§4.2) under `options` (its stop rules; with none given,
 /// down to the smallest mesh the decimator reaches) and records the collapses as vertex splits.

@@ -66,7 +66,8 @@ struct TriangleDistortion {
   /// sqrt(Σ A_f s_f² / Σ A_f) over the faces of positive 3D area (1 for an isometry).
   double global_stretch_l2 = 0.0;
   /// Sander et al.'s scale-invariant L2 stretch: global_stretch_l2 · sqrt(Σ |UV area| / Σ A_f);
-  /// 1 for any map that is an isometry up to one uniform scale.
+  /// 1 for any map that is an isometry up to one uniform scale; +inf when every UV triangle has
+  /// zero area (no scale undoes that).
   double normalized_global_stretch_l2 = 0.0;
   /// max_f σ1 over the faces of positive 3D area.
   /// (The three global values are NaN when no face has positive 3D area: nothing to average.)

@@ -352,9 +352,11 @@ class OutputBuffer {
   std::size_t used_ = 0;
 };
 
-/// Appends one text line "count i j k ..." per face of `mesh`: the face records of ASCII OFF
-/// and of ASCII PLY's vertex_indices lists.
-inline void append_face_lines(OutputBuffer& out, const PolygonMesh& mesh) {
+/// Appends one text line "count i j k ..." per face of `mesh`, followed by the face's row of
+/// `face_values` when given: the face records of ASCII OFF (with colours) and of ASCII PLY's
+/// vertex_indices lists.
+inline void append_face_lines(OutputBuffer& out, const PolygonMesh& mesh,
+                              const ColorMatrix* face_values = nullptr) {
   for (std::int64_t f = 0; f < mesh.face_count(); ++f) {
     const std::int64_t begin = mesh.face_offsets[f], end = mesh.face_offsets[f + 1];
     out.number(end - begin);
@@ -362,6 +364,11 @@ inline void append_face_lines(OutputBuffer& out, const PolygonMesh& mesh) {
       out.character(' ');
       out.number(mesh.face_vertices[k]);
     }
+    if (face_values)
+      for (Eigen::Index c = 0; c < face_values->cols(); ++c) {
+        out.character(' ');
+        out.number((*face_values)(f, c));
+      }
     out.character('\n');
   }
 }

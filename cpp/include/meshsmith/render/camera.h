@@ -7,10 +7,17 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <string>
+
 namespace meshsmith::render {
 
-/// Which world axis points up in pictures ("y": OBJ/glTF convention, "z": CAD/scan convention).
-enum class UpAxis { y, z };
+/// Which world axis points up in pictures ("y": OBJ/glTF convention, "z": CAD/scan convention;
+/// x and the negative axes for the rest).
+enum class UpAxis { x, y, z, minus_x, minus_y, minus_z };
+
+/// The up axis called `name`: "x", "y", "z" (or "+x", ...), "-x", "-y", "-z".
+/// \throw InputError for any other name.
+UpAxis up_axis_from_name(const std::string& name);
 
 /// A look-at camera. The image plane is perpendicular to (target - eye); `up` fixes the roll
 /// and need not be orthogonal to the view direction, only not parallel to it.
@@ -36,7 +43,9 @@ struct FramingOptions {
 
 /// Unit vector from the target towards the eye for a view direction (azimuth, elevation).
 /// With UpAxis::y the front view (0, 0) looks from +z, the right view (90, 0) from +x and the top
-/// view (0, 90) from +y; with UpAxis::z the front view looks from -y and the top view from +z.
+/// view (0, 90) from +y; with UpAxis::z the front view looks from -y and the top view from +z;
+/// with UpAxis::x the front view looks from +z with +x up (screen right is -y). A negative axis
+/// keeps its positive axis's front direction, upside down: the top view looks from the negative axis.
 Eigen::Vector3d view_direction(double azimuth_deg, double elevation_deg, UpAxis up);
 
 /// The camera that looks at the mesh vertices V (#V×3) from the direction of `options`

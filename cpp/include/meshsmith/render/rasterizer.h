@@ -90,6 +90,9 @@ std::pair<double, double> robust_scalar_range(const Eigen::VectorXd& values,
                                               double lower_percentile = 2.0,
                                               double upper_percentile = 98.0);
 
+/// The largest width or height of a rendered picture, in pixels (before supersampling).
+constexpr int kMaxImageSide = 16384;
+
 /// Renders the triangle mesh (V #V×3, F #F×3) seen through `camera`.
 /// Triangles with a vertex behind the camera's near plane (closer than 1e-6 of the eye-target
 /// distance) are not drawn; auto-framed cameras (frame_camera) never produce such triangles.

@@ -1,0 +1,69 @@
+"""Argument checks for the Python modules' own use of an argument (before or instead of the core).
+
+These are the bindings' conversions themselves (cpp/python/convert.cpp, through
+``meshsmith._core.core``), so an array or an integer option checked here gets exactly the rule
+and the message it gets in C++: InputError naming the argument for anything numpy cannot turn
+into a numeric array of the right shape and dtype (ragged lists, None, objects, strings,
+complex; float or bool indices), and for an integer option that is not an integer in its range.
+Arrays come back C-contiguous (float64, int32 or bool), without a copy when they are already;
+the caller's arrays are never written to.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._core import InputError
+from ._core import core as _convert
+from ._typing import BoolArray, FloatArray, ProgressCallback
+
+#: The most elements (faces, points, samples) a function makes from a count it is given: 2^26,
+#: several GB of arrays, rather than exhausting memory.
+MAX_ELEMENTS = 2 ** 26
+
+
+def numbers(value: object, name: str, elements: str = "real") -> np.ndarray:
+    """`value` as an ndarray of any shape (not converted: its own dtype) whose elements are
+    "real" (float or integer dtypes), "index" (integer dtypes) or "flag" (bool). Raises
+    InputError naming `name`."""
+    return _convert.numeric_array(value, name, elements)
+
+
+def real_array(value: object, name: str, columns: int | tuple[int, int] | None = None) -> FloatArray:
+    """`value` as float64 of shape (n,) (columns None), (n, columns), or (n, a) or (n, b) for
+    columns=(a, b). Raises InputError naming `name`."""
+    return _convert.real_array(value, name, columns)
+
+
+def index_array(value: object, name: str, columns: int | None = None) -> np.ndarray:
+    """`value` as int32 of shape (n,) (columns None) or (n, columns); integer dtypes only, every
+    value inside the 32-bit range. Raises InputError naming `name`."""
+    return _convert.index_array(value, name, columns)
+
+
+def flag_array(value: object, name: str) -> BoolArray:
+    """`value` as a bool array of shape (n,) (bool dtype only). Raises InputError naming `name`."""
+    return _convert.flag_array(value, name)
+
+
+def integer(value: object, name: str, minimum: int, maximum: int) -> int:
+    """`value` (an int, a numpy integer or anything with ``__index__``; not a bool or a float) as
+    an int in [minimum, maximum]. Raises InputError "name = value: expected an integer in
+    [minimum, maximum]"."""
+    return _convert.integer_option(value, name, minimum, maximum)
+
+
+def progress(callback: ProgressCallback) -> ProgressCallback:
+    """`callback` if it is None or callable (what the bindings accept as a progress callback),
+    for a function that passes it on only on some paths. Raises InputError otherwise."""
+    _convert.check_progress(callback)
+    return callback
+
+
+def finite(array: FloatArray, name: str) -> FloatArray:
+    """`array` (from real_array) if it holds no NaN or Inf; else InputError naming the first."""
+    bad = np.argwhere(~np.isfinite(array))
+    if len(bad):
+        where = ", ".join(str(i) for i in bad[0])
+        raise InputError(f"{name}[{where}] is {array[tuple(bad[0])]}: expected finite numbers")
+    return array
+
