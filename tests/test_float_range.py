@@ -486,3 +486,14 @@ def test_surface_distances_are_exactly_scale_covariant(k, measure):
         reference = call(V, F, W, F, sampled=sampled)
         result = call(scaled(V, k), F, scaled(W, k), F, sampled=sampled)
         np.testing.assert_array_equal(np.ldexp(np.asarray(reference, dtype=float), k), np.asarray(result, dtype=float))
+
+
+def test_voronoi_vertex_beyond_the_double_range_is_an_input_error():
+    P = np.random.default_rng(1).random((60, 2))
+    P[0] = [1e300, 1e300]
+    try:
+        diagram = meshsmith.tessellation.voronoi(P)
+    except meshsmith.InputError as error:
+        assert "beyond the double range" in str(error)
+    else:
+        assert np.all(np.isfinite(diagram.vertices))

@@ -59,7 +59,8 @@ def _normalized_curve(P: ArrayLike, name: str = "P") -> tuple[FloatArray, int]:
 def _to_input(values: np.ndarray, exponent: int, power: int, what: str) -> np.ndarray:
     """A result of unit length^power computed on normalized coordinates, in input units.
     Raises InputError if it leaves the double range."""
-    result = np.ldexp(values, power * exponent)
+    with np.errstate(over="ignore"):  # reported below, with the index
+        result = np.ldexp(values, power * exponent)
     overflowed = np.isfinite(values) & ~np.isfinite(result)
     if overflowed.any():
         index = int(np.flatnonzero(overflowed.ravel())[0])

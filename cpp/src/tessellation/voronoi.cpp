@@ -53,9 +53,15 @@ VoronoiDiagram voronoi(const PointRef2& P, const Eigen::Vector4d& bounds) {
   auto site = [&](int i) { return Point2(P(i, 0) * scale, P(i, 1) * scale); };
 
   diagram.vertices.resize(F.rows(), 2);
-  for (Eigen::Index t = 0; t < F.rows(); ++t)
+  for (Eigen::Index t = 0; t < F.rows(); ++t) {
     diagram.vertices.row(t) =
         circumcentre(site(F(t, 0)), site(F(t, 1)), site(F(t, 2))).transpose() / scale;
+    if (!diagram.vertices.row(t).allFinite())
+      throw InputError("voronoi: the Voronoi vertex of Delaunay triangle " + std::to_string(t) + " (sites " +
+                       std::to_string(F(t, 0)) + ", " + std::to_string(F(t, 1)) + ", " + std::to_string(F(t, 2)) +
+                       ") lies beyond the double range: its sites are nearly collinear at the scale of the "
+                       "whole set (one site far from the rest?)");
+  }
 
   // One Voronoi edge per Delaunay edge: a segment between the circumcentres of its two
   // triangles, or (convex-hull edge) a ray from its triangle's circumcentre, pointing outwards.
