@@ -38,8 +38,16 @@ CoordinateFrame triangle_edge_vectors(const double* a, const double* b, const do
   CoordinateFrame frame;
   const double largest = std::max(ab.cwiseAbs().maxCoeff(), ac.cwiseAbs().maxCoeff());
   if (largest > 0.0) std::frexp(largest, &frame.exponent);
-  ab = ab.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
-  ac = ac.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
+  if (frame.exponent >= -1021 && frame.exponent <= 1022) {
+    // 2^-exponent is a normal double: a product with it is rounded once, to exactly what ldexp
+    // returns, at a fraction of ldexp's cost (six calls per triangle were most of face_areas).
+    const double scale = std::ldexp(1.0, -frame.exponent);
+    ab *= scale;
+    ac *= scale;
+  } else {
+    ab = ab.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
+    ac = ac.unaryExpr([&](double x) { return std::ldexp(x, -frame.exponent); });
+  }
   ++frame.exponent;  // the halves
   return frame;
 }
