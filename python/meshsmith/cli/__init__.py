@@ -45,7 +45,7 @@ from . import (
     tessellation,
     topology,
 )
-from .common import ArgumentParser, ProgressBar, UsageError, set_examples, user_message
+from .common import ArgumentParser, ProgressBar, UsageError, user_message
 
 __all__ = ["main", "build_parser", "ProgressBar", "CHAPTERS"]
 
@@ -59,20 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for chapter in CHAPTERS:
         chapter.register(commands)
-    for name, examples in _EXAMPLES_OUTSIDE_THEIR_MODULE.items():
-        if not hasattr(commands.choices[name], "examples"):
-            set_examples(commands.choices[name], name, examples)
     return parser
-
-
-#: Examples of commands whose module does not set them yet (cli/io.py and cli/repair.py were written
-#: on other branches at the same time; these move there with add_command).
-_EXAMPLES_OUTSIDE_THEIR_MODULE = {
-    "convert": ["meshsmith convert mesh.off mesh.ply", "meshsmith convert mesh.off mesh.stl --binary",
-                "meshsmith convert disk.obj plain.obj --drop uv"],
-    "clean": ["meshsmith clean mesh.off -o clean.obj",
-              "meshsmith clean mesh.off -o merged.ply --merge-tolerance 1e-6 --min-component-faces 10"],
-}
 
 
 def _version() -> str:

@@ -6,7 +6,14 @@ import argparse
 import numpy as np
 
 from .. import InputError, decimation, geometry, io
-from .common import MESH_SUFFIXES, ProgressBar, add_command, check_output, integer, number
+from .common import (
+    MESH_SUFFIXES,
+    ProgressBar,
+    add_command,
+    check_output,
+    integer,
+    number,
+)
 
 
 def _relative_hausdorff(V0: np.ndarray, F0: np.ndarray, V1: np.ndarray, F1: np.ndarray) -> tuple[float, float]:

@@ -7,6 +7,7 @@ import sys
 import warnings
 
 from .. import InputError, io
+from .common import add_command
 
 # --drop names → MeshData fields (and the corner indices that go with them).
 DROPPABLE = {"normals": ("normals", "F_normal"), "uv": ("UV", "F_uv"), "colors": ("colors",),
@@ -40,14 +41,14 @@ def command_convert(args: argparse.Namespace) -> int:
 
 def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    convert = commands.add_parser(
-        "convert", help="convert between mesh formats, keeping normals, UVs and colours",
+    convert = add_command(
+        commands, "convert", help="convert between mesh formats, keeping normals, UVs and colours",
         description="Read a mesh and write it in the format given by OUT's extension (.obj .ply "
                     ".off .stl .glb), polygons and attributes included. If OUT's format cannot "
                     "hold an attribute the input has, the command fails and names a format "
                     "that can; --drop leaves the attribute out instead.",
-        epilog="examples: meshsmith convert spot.obj spot.glb;  "
-               "meshsmith convert spot.obj spot.stl --drop uv")
+        examples=["meshsmith convert mesh.off mesh.ply", "meshsmith convert mesh.off mesh.stl --binary",
+                  "meshsmith convert disk.obj plain.obj --drop uv"])
     convert.add_argument("input")
     convert.add_argument("output")
     encoding = convert.add_mutually_exclusive_group()

@@ -4,7 +4,14 @@ from __future__ import annotations
 import argparse
 
 from .. import io, points
-from .common import ProgressBar, add_command, check_output, integer, number, read_point_cloud
+from .common import (
+    ProgressBar,
+    add_command,
+    check_output,
+    integer,
+    number,
+    read_point_cloud,
+)
 
 
 def command_normals(args: argparse.Namespace) -> int:

@@ -7,7 +7,14 @@ from pathlib import Path
 import numpy as np
 
 from .. import InputError, render
-from .common import UsageError, add_command, add_picture_size, check_output, number, read_mesh
+from .common import (
+    UsageError,
+    add_command,
+    add_picture_size,
+    check_output,
+    number,
+    read_mesh,
+)
 
 #: Values of --up: the world axis that points up in the picture.
 UP_AXES = ("x", "y", "z", "-x", "-y", "-z")

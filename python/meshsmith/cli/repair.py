@@ -5,7 +5,7 @@ import argparse
 
 from .. import io, repair
 from ..repair.clean import CLEAN_COUNTS
-from .common import read_mesh
+from .common import add_command, read_mesh
 
 
 def command_clean(args: argparse.Namespace) -> int:
@@ -25,14 +25,15 @@ def command_clean(args: argparse.Namespace) -> int:
 
 def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
-    clean = commands.add_parser(
-        "clean", help="clean a mesh: merge, remove degenerate faces, split non-manifold, orient",
+    clean = add_command(
+        commands, "clean", help="clean a mesh: merge, remove degenerate faces, split non-manifold, orient",
         description="Clean a triangle mesh (§2.4): merge coincident vertices (or those within "
                     "--merge-tolerance), remove faces with a repeated vertex, of zero area or duplicated, "
                     "split non-manifold vertices and edges, remove components smaller than "
                     "--min-component-faces, orient every component consistently (closed ones outward) and "
                     "remove unreferenced vertices. Prints one line per kind of change, with its count.",
-        epilog="example: meshsmith clean scan.obj -o clean.obj --merge-tolerance 1e-6 --min-component-faces 10")
+        examples=["meshsmith clean mesh.off -o clean.obj",
+                  "meshsmith clean mesh.off -o merged.ply --merge-tolerance 1e-6 --min-component-faces 10"])
     clean.add_argument("input", help="mesh file (.obj, .ply, .off, .stl)")
     clean.add_argument("-o", "--output", required=True, help="cleaned mesh file (format from the extension)")
     merging = clean.add_mutually_exclusive_group()

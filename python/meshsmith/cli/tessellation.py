@@ -7,8 +7,16 @@ from pathlib import Path
 import numpy as np
 
 from .. import InputError, io, render, tessellation
-from .common import (MESH_SUFFIXES, POINT_CLOUD_SUFFIXES, ProgressBar, add_command, check_output, integer,
-                     number, read_point_cloud)
+from .common import (
+    MESH_SUFFIXES,
+    POINT_CLOUD_SUFFIXES,
+    ProgressBar,
+    add_command,
+    check_output,
+    integer,
+    number,
+    read_point_cloud,
+)
 
 
 def read_planar(path: str) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
