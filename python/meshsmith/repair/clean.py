@@ -125,12 +125,9 @@ def merge_close_vertices(V: ArrayLike, *, tolerance: float = 0.0) -> tuple[np.nd
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance >= 0):
         raise InputError(f"merge tolerance must be a finite number >= 0, got {tolerance!r}")
-    P = _arguments.real_array(V, "V", 3)
+    P = _arguments.finite(_arguments.real_array(V, "V", 3), "V")
     if not len(P):
         raise InputError("V is empty: expected a non-empty (n, 3) array")
-    if not np.isfinite(P).all():
-        row = int(np.flatnonzero(~np.isfinite(P).all(axis=1))[0])
-        raise InputError(f"V row {row} is not finite")
     _, first, exact = np.unique(P + 0.0, axis=0, return_index=True, return_inverse=True)
     exact = exact.reshape(-1)
     label: np.ndarray = np.arange(len(first))
