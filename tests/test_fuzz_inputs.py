@@ -186,6 +186,10 @@ VALID = {
                                                "indices": np.array([0, 5, 41])},
     "repair.ReferencedMesh.from_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                                  "indices": np.array([0, 6, 42])},
+    "smoothing.laplacian": {"fixed": np.array([0, 3]), "epsilon_ball": 0.05},
+    "smoothing.taubin": {"fixed": np.array([1]), "error_slab": 0.05},
+    "smoothing.smooth_curve": {"P": CURVE, "fixed": np.array([2]), "epsilon_ball": 0.1},
+    "smoothing.transfer_function": {"k": np.linspace(0.0, 2.0, 5)},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},
@@ -205,7 +209,7 @@ NAN_ALLOWED: dict[str, tuple] = {
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
-             "repair.ReferencedMesh.from_input_indices"}
+             "repair.ReferencedMesh.from_input_indices", "smoothing.transfer_function"}
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.

@@ -16,6 +16,7 @@ from . import (
                points,
                render,
                repair,
+               smoothing,
                tessellation,
                topology,
 )
@@ -23,6 +24,6 @@ from ._core import Cancelled, InputError, SolverError
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization", "smoothing",
            "datasets",
            "__version__"]
