@@ -15,9 +15,10 @@ faces; bunny.off, 7k faces, in quick mode; a noisy icosphere where the shared da
 
 Result checks (tolerances): against trimesh and the libigl + scipy pipeline (the same operator in
 double precision) within 1e-10 of the bounding box (1e-9 for the implicit systems, solved by
-different factorizations); against Open3D within 1e-10; against pymeshlab within 1e-5 (MeshLab
-stores float32 coordinates); the intrinsic Laplacian within 1e-9 of libigl's, relative to its
-largest entry.
+different factorizations); against pymeshlab within 1e-5 (MeshLab stores float32 coordinates);
+Open3D weighs neighbours by inverse edge lengths recomputed every step (a different filter,
+marked as different work): only its mean vertex displacement is compared, within 30% of
+meshsmith's; the intrinsic Laplacian within 1e-9 of libigl's, relative to its largest entry.
 """
 from __future__ import annotations
 
@@ -77,7 +78,9 @@ def main() -> None:
             mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(V), o3d.utility.Vector3iVector(F.astype(np.int32)))
             smoothed = mesh.filter_smooth_taubin(number_of_iterations=iterations, lambda_filter=0.5, mu=-0.53)
             return np.asarray(smoothed.vertices)
-        bench.time("Open3D filter_smooth_taubin", open3d_taubin)
+        # Open3D weighs each neighbour by 1 / (edge length + 1e-12), recomputed every step: a
+        # Taubin filter with other weights, so not the same work (its ratio is in parentheses).
+        bench.time("Open3D filter_smooth_taubin (inverse-length weights)", open3d_taubin, same_work=False)
     if trimesh is not None:
         def trimesh_taubin():
             mesh = trimesh.Trimesh(V.copy(), F.copy(), process=False)
@@ -89,8 +92,10 @@ def main() -> None:
         bench.check("positions vs trimesh, max |difference| / bounding-box diagonal",
                     box_relative(ours, bench.output("trimesh filter_taubin"), V), 1e-10)
     if o3d is not None:
-        bench.check("positions vs Open3D, max |difference| / bounding-box diagonal",
-                    box_relative(ours, bench.output("Open3D filter_smooth_taubin"), V), 1e-10)
+        moved = lambda P: float(np.linalg.norm(P - V, axis=1).mean())  # noqa: E731
+        bench.check("Open3D (other weights): |its mean vertex displacement / meshsmith's - 1|",
+                    abs(moved(bench.output("Open3D filter_smooth_taubin (inverse-length weights)")) / moved(ours) - 1),
+                    0.3)
     if pymeshlab is not None:
         bench.check("positions vs pymeshlab (float32 coordinates), max |difference| / bounding-box diagonal",
                     box_relative(ours, bench.output("pymeshlab apply_coord_taubin_smoothing"), V), 1e-5)

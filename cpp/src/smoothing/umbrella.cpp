@@ -53,6 +53,19 @@ Umbrella umbrella_operator(const Eigen::SparseMatrix<double>& L_rows, const std:
     }
     U.offsets[i + 1] = static_cast<int>(U.columns.size());
   }
+  bool equal = true;
+  U.row_weight.assign(n, 0.0);
+  for (Eigen::Index i = 0; i < n && equal; ++i) {
+    if (U.offsets[i] == U.offsets[i + 1]) continue;
+    U.row_weight[i] = U.weights[U.offsets[i]];
+    for (int k = U.offsets[i]; k < U.offsets[i + 1]; ++k) equal = equal && U.weights[k] == U.row_weight[i];
+  }
+  if (equal) {
+    U.weights.clear();
+    U.weights.shrink_to_fit();
+  } else {
+    U.row_weight.clear();
+  }
   return U;
 }
 
@@ -60,6 +73,7 @@ void explicit_step(const Umbrella& U, double step, const VertexMatrix& before, V
   const Eigen::Index n = U.size();
   const double* p = before.data();
   double* q = after.data();
+  const bool equal_weights = !U.row_weight.empty();
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 2048), [&](const tbb::blocked_range<Eigen::Index>& range) {
     for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
       const double* pi = p + 3 * i;
@@ -69,12 +83,23 @@ void explicit_step(const Umbrella& U, double step, const VertexMatrix& before, V
         continue;
       }
       double x = 0.0, y = 0.0, z = 0.0;
-      for (int k = U.offsets[i]; k < U.offsets[i + 1]; ++k) {
-        const double w = U.weights[k];
-        const double* pj = p + 3 * static_cast<Eigen::Index>(U.columns[k]);
-        x += w * pj[0];
-        y += w * pj[1];
-        z += w * pj[2];
+      if (equal_weights) {
+        for (int k = U.offsets[i]; k < U.offsets[i + 1]; ++k) {
+          const double* pj = p + 3 * static_cast<Eigen::Index>(U.columns[k]);
+          x += pj[0];
+          y += pj[1];
+          z += pj[2];
+        }
+        const double w = U.row_weight[i];
+        x *= w, y *= w, z *= w;
+      } else {
+        for (int k = U.offsets[i]; k < U.offsets[i + 1]; ++k) {
+          const double w = U.weights[k];
+          const double* pj = p + 3 * static_cast<Eigen::Index>(U.columns[k]);
+          x += w * pj[0];
+          y += w * pj[1];
+          z += w * pj[2];
+        }
       }
       // Σ_j u_ij = 1, so (U p)_i = Σ_j u_ij p_j − p_i.
       qi[0] = pi[0] + step * (x - pi[0]);

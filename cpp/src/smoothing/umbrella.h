@@ -14,10 +14,14 @@ namespace meshsmith::smoothing::detail {
 
 /// Row i of U without its diagonal (−1): u_ij = w_ij / Σ_j w_ij over columns[offsets[i] ..
 /// offsets[i+1]). `moves[i]` is 0 for a vertex held in place (fixed, or whose weights sum to 0).
+/// When every row's weights are equal (uniform weights, polylines), `weights` is empty and
+/// `row_weight[i]` = 1/deg(i) stands for them: the explicit step then streams 4 bytes per
+/// neighbour instead of 12.
 struct Umbrella {
   std::vector<int> offsets;
   std::vector<int> columns;
   std::vector<double> weights;
+  std::vector<double> row_weight;
   std::vector<char> moves;
   Eigen::Index size() const { return static_cast<Eigen::Index>(moves.size()); }
 };
