@@ -56,7 +56,8 @@ def laplacian(V: ArrayLike, F: ArrayLike, *, weights: str = "uniform", lam: floa
     position (a boundary, say). epsilon_ball: each vertex stays within this distance of its
     input position; error_slab: its displacement along its input vertex normal
     (``geometry.vertex_normals(V, F)``) stays within this distance, tangential motion is free
-    (§3.0.2 "Error Control"; give at most one). The bound is enforced after every step by
+    (a vertex without a normal, all its faces degenerate, gets the ball) (§3.0.2 "Error Control";
+    give at most one). The bound is enforced after every step by
     projection onto the ball or slab, and holds exactly for the returned floats. progress:
     optional ``(fraction, stage) -> bool``; False cancels.
 
