@@ -35,4 +35,8 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_parametrization_abf(parametrization);
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
+  auto registration = m.def_submodule("registration");
+  meshsmith::python::bind_registration(registration);
+  auto reconstruction = m.def_submodule("reconstruction");
+  meshsmith::python::bind_reconstruction_depth(reconstruction);
 }

@@ -14,6 +14,8 @@ from . import (
                io,
                parametrization,
                points,
+               reconstruction,
+               registration,
                render,
                repair,
                tessellation,
@@ -23,6 +25,6 @@ from ._core import Cancelled, InputError, SolverError
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization", "registration", "reconstruction",
            "datasets",
            "__version__"]

@@ -19,5 +19,7 @@ points: Any
 tessellation: Any
 decimation: Any
 parametrization: Any
+registration: Any
+reconstruction: Any
 
 def __getattr__(name: str) -> Any: ...
