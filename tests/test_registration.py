@@ -245,3 +245,33 @@ def test_voxel_downsample_matches_a_numpy_grouping():
     np.add.at(expected, inverse, P)
     expected /= np.bincount(inverse)[:, None]
     assert np.allclose(registration.voxel_downsample(P, voxel), expected, rtol=0, atol=1e-14)
+
+
+# ---- command line ---------------------------------------------------------------------------
+
+def test_register_command_writes_the_transform_and_the_moved_source(tmp_path, capsys):
+    from meshsmith import cli
+    V, F = datasets.icosphere(3)
+    V = V * [1.0, 0.7, 0.4]                          # no rotational symmetry
+    truth = random_motion(np.random.default_rng(11), 15.0, 0.1)
+    io.write_mesh(tmp_path / "source.off", V, F)
+    io.write_points(tmp_path / "target.xyz", registration.apply_transform(truth, V))
+    status = cli.main(["register", str(tmp_path / "source.off"), str(tmp_path / "target.xyz"), "-o",
+                       str(tmp_path / "T.txt"), "--method", "point_to_plane", "--apply", str(tmp_path / "moved.obj")])
+    out = capsys.readouterr().out
+    assert status == 0 and "converged" in out and "NOT" not in out
+    T = np.loadtxt(tmp_path / "T.txt")
+    assert np.abs(T - truth).max() < 1e-8
+    moved, faces = io.read_mesh(tmp_path / "moved.obj")
+    assert np.array_equal(faces, F) and np.abs(moved - registration.apply_transform(truth, V)).max() < 1e-5
+
+
+def test_register_command_reports_bad_input_in_one_line(tmp_path, capsys):
+    from meshsmith import cli
+    P = RNG.normal(size=(50, 3))
+    io.write_points(tmp_path / "a.xyz", P)
+    assert cli.main(["register", str(tmp_path / "a.xyz"), str(tmp_path / "a.xyz"), "-o", str(tmp_path / "T.npy")]) == 2
+    assert cli.main(["register", str(tmp_path / "a.xyz"), str(tmp_path / "a.xyz"), "-o", str(tmp_path / "T.txt"),
+                     "--max-distance", "1e-12", "--initial", str(tmp_path / "missing.txt")]) == 1
+    err = capsys.readouterr().err
+    assert err.count("meshsmith: error:") == 2 and "Traceback" not in err

@@ -33,6 +33,7 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -181,16 +182,37 @@ struct Correspondences {
   std::uint64_t hash = 0;  // of the inlier pairs: equal sets of pairs give equal hashes
 };
 
+/// warm_squared > 0: c.index holds the pairs of the previous iteration, and a point whose previous
+/// partner is within sqrt(warm_squared) (a few sample spacings: a ball of a few dozen points) is
+/// searched in the ball of that radius (capped at max_distance), which holds the new closest
+/// point and prunes the tree more than an unbounded search; a point with nothing within
+/// max_distance gets squared distance +inf (an outlier either way). Other points: a plain search.
 void correspond(const points::KdTree& tree, const VertexMatrix& S, const Eigen::Matrix3d& R,
-                const Eigen::Vector3d& t, double max_squared, double trim, Correspondences& c) {
+                const Eigen::Vector3d& t, double max_squared, double trim, double warm_squared, Correspondences& c) {
   const Eigen::Index n = S.rows();
   c.index.resize(std::size_t(n));
   c.squared.resize(std::size_t(n));
   c.inlier.assign(std::size_t(n), 0);
+  const VertexMatrix& Q = tree.normalized_points();
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 512), [&](const tbb::blocked_range<Eigen::Index>& r) {
+    std::vector<std::pair<std::uint32_t, double>> matches;
     for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
       const Eigen::Vector3d p = R * S.row(i).transpose() + t;
-      tree.nearest(p.data(), 1, &c.index[std::size_t(i)], &c.squared[std::size_t(i)]);
+      std::uint32_t& index = c.index[std::size_t(i)];
+      double& squared = c.squared[std::size_t(i)];
+      const double previous = warm_squared > 0.0 ? (p - Q.row(index).transpose()).squaredNorm() : 0.0;
+      if (warm_squared == 0.0 || !(previous <= warm_squared)) {
+        tree.nearest(p.data(), 1, &index, &squared);
+        continue;
+      }
+      const double radius = std::min(previous * (1.0 + 1e-12) + std::numeric_limits<double>::min(), max_squared);
+      tree.within_radius(p.data(), radius, matches);
+      if (matches.empty()) {
+        squared = std::numeric_limits<double>::infinity();
+      } else {
+        index = matches.front().first;
+        squared = matches.front().second;
+      }
     }
   });
   double cut = max_squared;
@@ -309,6 +331,21 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   const double max_squared = options.max_distance > 0.0
                                  ? std::pow(frame.to_normalized(options.max_distance, 1), 2)
                                  : std::numeric_limits<double>::infinity();
+  // The target's sample spacing (median distance to the nearest other point over up to 1024
+  // points spread over it) sets the ball of the warm-started searches: 3 spacings.
+  double warm_squared = 0.0;
+  if (Q.rows() > 1 && std::getenv("MESHSMITH_ICP_COLD") == nullptr) {
+    const Eigen::Index stride = std::max<Eigen::Index>(1, Q.rows() / 1024);
+    std::vector<double> spacing;
+    std::uint32_t found[2];
+    double squared[2];
+    for (Eigen::Index i = 0; i < Q.rows(); i += stride) {
+      const int k = tree.nearest(Q.row(i).data(), 2, found, squared);
+      if (k == 2) spacing.push_back(squared[1]);
+    }
+    std::nth_element(spacing.begin(), spacing.begin() + std::ptrdiff_t(spacing.size() / 2), spacing.end());
+    warm_squared = 9.0 * spacing[spacing.size() / 2];
+  }
   IcpResult result;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -316,7 +353,7 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   std::vector<std::uint64_t> seen;  // hashes of the pair sets of the iterations so far
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     progress.report(double(iteration) / double(options.max_iterations), "icp");
-    correspond(tree, S, R, t, max_squared, options.trim, c);
+    correspond(tree, S, R, t, max_squared, options.trim, iteration > 0 ? warm_squared : 0.0, c);
     if (c.inliers < needed) {
       if (iteration == 0)
         throw InputError("max_distance = " + number_text(options.max_distance) + ": " +
@@ -399,7 +436,7 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
 
   // Final correspondences of every input source row at the final transform.
   const VertexMatrix all = options.voxel_size > 0.0 ? frame.normalize_vertices(source_start) : S;
-  correspond(tree, all, R, t, max_squared, options.trim, c);
+  correspond(tree, all, R, t, max_squared, options.trim, options.voxel_size == 0.0 ? warm_squared : 0.0, c);
   result.rms = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
   result.inlier_fraction = double(c.inliers) / double(all.rows());
   if (c.inliers < needed) result.converged = false;

@@ -32,9 +32,12 @@ def align(A: ArrayLike, B: ArrayLike, *, scale: bool = False, weights: ArrayLike
 
 def apply_transform(T: ArrayLike, P: ArrayLike) -> FloatArray:
     """The points P (n, 3) mapped by the 4×4 transform T: ``P @ T[:3, :3].T + T[:3, 3]``.
-    Raises InputError if T is not a finite 4×4 array or P not an (n, 3) array."""
+    Raises InputError if T is not a finite 4×4 array or P not a finite (n, 3) array."""
     M = _transform(T, "T")
-    return _arguments.real_array(P, "P", 3) @ M[:3, :3].T + M[:3, 3]
+    moved = _arguments.finite(_arguments.real_array(P, "P", 3), "P") @ M[:3, :3].T + M[:3, 3]
+    if not np.isfinite(moved).all():
+        raise InputError("apply_transform: a moved point leaves the double range")
+    return moved
 
 
 def rotation_angle(T: ArrayLike) -> float:
