@@ -130,7 +130,7 @@ def scan_pair_cases(data: Path) -> None:
               f"{np.degrees(registration.rotation_angle(truth)):.4f}°)")
         mine = errors(bench.output("meshsmith"), truth, source, diagonal)
         if method == "point_to_plane":   # point-to-point is not there after 30 iterations (no library is)
-            bound = (0.2, 0.002) if quick_voxel is None else (0.5, 0.005)   # the 2 mm reduction costs accuracy
+            bound = (0.2, 0.003) if quick_voxel is None else (0.5, 0.005)   # the 2 mm reduction costs accuracy
             bench.check("meshsmith rotation error vs bun.conf (degrees)", mine[0], bound[0])
             bench.check("meshsmith displacement vs bun.conf / diagonal", mine[1], bound[1])
         assert np.array_equal(bench.output("meshsmith"), bench.output("meshsmith, 1 thread")), "thread count changed the result"
