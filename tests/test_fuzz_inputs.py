@@ -353,7 +353,7 @@ def array_variants(a: np.ndarray, optional: bool, mesh_faces: bool, profile: Pro
         out.append(("bool", a != 0, REJECT))
     if a.ndim == 2:
         out.append(("1-d", a.ravel(), REJECT))
-        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else 4
+        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else (5 if a.shape[1] == 4 else 4)
         wrong = np.hstack([a] * 7)[:, :columns]
         out.append((f"{columns} columns", wrong, REJECT))
         out.append(("empty", a[:0] if profile.empty_rows else [], EITHER))
