@@ -275,3 +275,14 @@ def test_register_command_reports_bad_input_in_one_line(tmp_path, capsys):
                      "--max-distance", "1e-12", "--initial", str(tmp_path / "missing.txt")]) == 1
     err = capsys.readouterr().err
     assert err.count("meshsmith: error:") == 2 and "Traceback" not in err
+
+
+def test_demo_stage_aligns_the_scan_to_noise_level(tmp_path):
+    from meshsmith.demo import DemoContext, stage_registration
+    V, F = datasets.torus(major_radius=1.0, minor_radius=0.4, n_major=48, n_minor=24)
+    section = stage_registration(DemoContext(tmp_path, "torus", V, F))
+    figures = section.table
+    before = figures["mean distance of the scan to the surface / diagonal, before"]
+    after = figures["mean distance of the scan to the surface / diagonal, after (noise: 0.004)"]
+    assert before > 0.02 and after < 0.005, (before, after)
+    assert all((tmp_path / name).stat().st_size > 1000 for name, _ in section.images)
