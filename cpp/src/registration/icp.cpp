@@ -33,7 +33,6 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -334,7 +333,7 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   // The target's sample spacing (median distance to the nearest other point over up to 1024
   // points spread over it) sets the ball of the warm-started searches: 3 spacings.
   double warm_squared = 0.0;
-  if (Q.rows() > 1 && std::getenv("MESHSMITH_ICP_COLD") == nullptr) {
+  if (Q.rows() > 1) {
     const Eigen::Index stride = std::max<Eigen::Index>(1, Q.rows() / 1024);
     std::vector<double> spacing;
     std::uint32_t found[2];
