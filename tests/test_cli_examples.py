@@ -65,7 +65,7 @@ def outputs_of(words):
     """The files an example writes: the values of -o/--output, --picture, --progressive, --out,
     and convert's second operand."""
     found = []
-    for flag in ("-o", "--output", "--picture", "--progressive", "--out"):
+    for flag in ("-o", "--output", "--picture", "--progressive", "--out", "--apply"):
         if flag in words:
             found.append(words[words.index(flag) + 1])
     if words[1] == "convert":
@@ -92,6 +92,11 @@ def check_valid(path, command):
         assert len(V) > 0 and len(F) > 0 and np.isfinite(V).all()
     elif suffix == ".npy":
         assert np.isfinite(np.load(path)).all()
+    elif suffix == ".txt" and command == "register":
+        T = np.loadtxt(path)
+        assert T.shape == (4, 4) and np.allclose(T[3], [0, 0, 0, 1]) and np.allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3))
+    elif suffix == ".xyz":
+        assert len(io.read_points(path)[0]) > 0
     elif suffix == ".pm":
         assert decimation.ProgressiveMesh.load(path).n_splits > 0
     else:

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import meshsmith
-from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, render, repair,
-                       tessellation,
+from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, reconstruction,
+                       registration, render, repair, tessellation,
                        topology)
 from meshsmith._results import Unpackable
 
@@ -121,6 +121,14 @@ RESULTS = {
         ["triangulation", "cells", "hidden", "bounds"]),
     "tessellation.medial_axis": (lambda tmp: tessellation.medial_axis(circle_samples()), ["vertices", "edges"]),
     "tessellation.crust_3d": (lambda tmp: tessellation.crust_3d(datasets.sphere_points(60).P), ["V", "F"]),
+    "registration.icp": (lambda tmp: registration.icp(datasets.sphere_points(40).P, datasets.sphere_points(40).P),
+                         ["transform", "rms", "iterations", "converged", "inlier_fraction", "rms_history", "inliers"]),
+    "reconstruction.depth_to_points": (lambda tmp: reconstruction.depth_to_points(np.ones((3, 4)), 2, 2, 1, 1),
+                                       ["points", "pixels"]),
+    "reconstruction.depth_to_mesh": (lambda tmp: reconstruction.depth_to_mesh(np.ones((3, 4)), 2, 2, 1, 1),
+                                     ["V", "F", "pixels"]),
+    "reconstruction.scanline_to_points": (lambda tmp: reconstruction.scanline_to_points(np.ones(5)),
+                                          ["points", "samples", "segments"]),
     "decimation.cluster": (lambda tmp: decimation.cluster(*datasets.icosphere(2), target_vertices=40),
                            ["V", "F", "vertex_cluster", "is_manifold", "cell_size"]),
     "decimation.decimate": (lambda tmp: decimation.decimate(*datasets.icosphere(2), target_faces=60), ["V", "F"]),

@@ -190,6 +190,16 @@ VALID = {
     "smoothing.taubin": {"fixed": np.array([1]), "error_slab": 0.05},
     "smoothing.smooth_curve": {"P": CURVE, "fixed": np.array([2]), "epsilon_ball": 0.1},
     "smoothing.transfer_function": {"k": np.linspace(0.0, 2.0, 5)},
+    "registration.align": {"A": POINTS, "B": POINTS[:, [1, 2, 0]] + 1.0, "weights": np.ones(len(POINTS))},
+    "registration.apply_transform": {"T": np.eye(4)},
+    "registration.rotation_angle": {"T": np.eye(4)},
+    "registration.icp": {"source": POINTS + 0.01, "target": POINTS, "max_iterations": 3, "normal_neighbours": 5,
+                         "initial": np.eye(4), "threads": 1, "max_distance": 1.0, "target_normals": NORMALS},
+    "registration.voxel_downsample": {"voxel_size": 0.2},
+    "reconstruction.depth_to_points": {"depth": np.full((6, 7), 2.0), "fx": 5.0, "fy": 5.0, "cx": 3.0, "cy": 3.0,
+                                       "mask": np.ones((6, 7), bool)},
+    "reconstruction.depth_to_mesh": {"depth": np.full((6, 7), 2.0), "fx": 5.0, "fy": 5.0, "cx": 3.0, "cy": 3.0,
+    "reconstruction.scanline_to_points": {"depths": np.ones(10), "center": np.zeros(2), "direction": np.ones(2)},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},
@@ -346,7 +356,7 @@ def array_variants(a: np.ndarray, optional: bool, mesh_faces: bool, profile: Pro
         out.append(("bool", a != 0, REJECT))
     if a.ndim == 2:
         out.append(("1-d", a.ravel(), REJECT))
-        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else 4
+        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else (5 if a.shape[1] == 4 else 4)
         wrong = np.hstack([a] * 7)[:, :columns]
         out.append((f"{columns} columns", wrong, REJECT))
         out.append(("empty", a[:0] if profile.empty_rows else [], EITHER))

@@ -21,4 +21,6 @@ void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls bo
 void bind_parametrization_abf(pybind11::module_& m);
 void bind_repair(pybind11::module_& m);
 void bind_smoothing(pybind11::module_& m);
+void bind_registration(pybind11::module_& m);
+void bind_reconstruction_depth(pybind11::module_& m);     // on "reconstruction"
 }  // namespace meshsmith::python

@@ -37,4 +37,8 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_repair(repair);
   auto smoothing = m.def_submodule("smoothing");
   meshsmith::python::bind_smoothing(smoothing);
+  auto registration = m.def_submodule("registration");
+  meshsmith::python::bind_registration(registration);
+  auto reconstruction = m.def_submodule("reconstruction");
+  meshsmith::python::bind_reconstruction_depth(reconstruction);
 }

@@ -14,6 +14,8 @@ from . import (
                io,
                parametrization,
                points,
+               reconstruction,
+               registration,
                render,
                repair,
                smoothing,
@@ -24,6 +26,24 @@ from ._core import Cancelled, InputError, SolverError
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization", "smoothing",
-           "datasets",
-           "__version__"]
+__all__ = [
+    "InputError",
+    "SolverError",
+    "Cancelled",
+    "core",
+    "io",
+    "topology",
+    "geometry",
+    "curves",
+    "points",
+    "render",
+    "tessellation",
+    "repair",
+    "decimation",
+    "parametrization",
+    "smoothing",
+    "registration",
+    "reconstruction",
+    "datasets",
+    "__version__",
+]

@@ -20,5 +20,7 @@ tessellation: Any
 decimation: Any
 parametrization: Any
 smoothing: Any
+registration: Any
+reconstruction: Any
 
 def __getattr__(name: str) -> Any: ...

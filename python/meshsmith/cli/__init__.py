@@ -7,6 +7,7 @@
                                    [--up x|y|z|-x|-y|-z] [--wireframe] [--views ...]
     meshsmith curvature IN --kind mean|gaussian|k1|k2 [--pointwise] -o out.png|out.npy [--range MIN MAX] [--up ...]
     meshsmith normals IN.xyz -o OUT.xyz [--k 16] [--orient]
+    meshsmith register SOURCE TARGET -o T.txt [--apply OUT] [--method point_to_point|point_to_plane] [--trim f] ...
     meshsmith triangulate IN.poly --min-angle 30 [--max-area A] [--max-steiner-points N] -o OUT.obj [--picture P.png]
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT
     meshsmith decimate IN -o OUT (--faces N | --ratio r | --error eps) [--method qem|cluster] [--progressive OUT.pm]
@@ -41,6 +42,7 @@ from . import (
     io,
     parametrization,
     points,
+    registration,
     render,
     repair,
     smoothing,
@@ -52,7 +54,20 @@ from .common import ArgumentParser, ProgressBar, UsageError, user_message
 __all__ = ["main", "build_parser", "ProgressBar", "CHAPTERS"]
 
 #: The chapters' command modules, in the order their commands appear in ``meshsmith --help``.
-CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, smoothing, decimation, parametrization, demo)
+CHAPTERS = (
+    topology,
+    repair,
+    io,
+    render,
+    geometry,
+    points,
+    registration,
+    tessellation,
+    smoothing,
+    decimation,
+    parametrization,
+    demo,
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -10,12 +10,28 @@ from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
 from .pipeline import STAGES, run_demo
+from .registration import stage_registration
 from .render import stage_pictures
 from .repair import stage_clean
 from .smoothing import stage_smoothing
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
 
-__all__ = ["run_demo", "STAGES", "DemoContext", "Section", "builtin_shape", "html_report", "stage_clean", "stage_input",
-           "stage_pictures", "stage_curvature", "stage_tessellation", "stage_crust", "stage_decimation",
-           "stage_parametrization", "stage_smoothing"]
+__all__ = [
+    "run_demo",
+    "STAGES",
+    "DemoContext",
+    "Section",
+    "builtin_shape",
+    "html_report",
+    "stage_clean",
+    "stage_input",
+    "stage_pictures",
+    "stage_curvature",
+    "stage_tessellation",
+    "stage_crust",
+    "stage_decimation",
+    "stage_parametrization",
+    "stage_smoothing",
+    "stage_registration",
+]
