@@ -35,4 +35,8 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_parametrization_abf(parametrization);
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
+  auto smoothing = m.def_submodule("smoothing");
+  meshsmith::python::bind_smoothing_fairing(smoothing);
+  auto deformation = m.def_submodule("deformation");
+  meshsmith::python::bind_deformation(deformation);
 }
