@@ -6,7 +6,7 @@ import numpy as np
 
 from .. import _arguments
 from .._core import deformation as _core
-from .._typing import ArrayLike, FloatArray
+from .._typing import ArrayLike, FloatArray, IndexArray
 
 __all__ = ["harmonic", "Deformer"]
 
@@ -59,12 +59,12 @@ class Deformer:
                                                 bool(details))
 
     @property
-    def handle(self) -> np.ndarray:
+    def handle(self) -> IndexArray:
         """(h,) int64 handle vertices, in the order handle positions are given."""
         return self._deformer.handle
 
     @property
-    def fixed(self) -> np.ndarray:
+    def fixed(self) -> IndexArray:
         """(f,) int64 fixed vertices."""
         return self._deformer.fixed
 
