@@ -222,7 +222,8 @@ NAN_ALLOWED: dict[str, tuple] = {
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
-             "repair.ReferencedMesh.from_input_indices"}
+             "repair.ReferencedMesh.from_input_indices",
+             "deformation.harmonic"}  # bc: (#b, c) for any number c of value columns
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.
@@ -359,7 +360,7 @@ def array_variants(a: np.ndarray, optional: bool, mesh_faces: bool, profile: Pro
         out.append(("bool", a != 0, REJECT))
     if a.ndim == 2:
         out.append(("1-d", a.ravel(), REJECT))
-        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else 4
+        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else (5 if a.shape[1] == 4 else 4)
         wrong = np.hstack([a] * 7)[:, :columns]
         out.append((f"{columns} columns", wrong, REJECT))
         out.append(("empty", a[:0] if profile.empty_rows else [], EITHER))

@@ -10,8 +10,8 @@ from .._typing import ArrayLike, FloatArray
 __all__ = ["poisson_edit"]
 
 
-def poisson_edit(V: ArrayLike, F: ArrayLike, handle: ArrayLike, fixed: ArrayLike | None, handle_positions: ArrayLike,
-                 *, rotate: bool = True) -> FloatArray:
+def poisson_edit(V: ArrayLike, F: ArrayLike, handle: ArrayLike, handle_positions: ArrayLike, *,
+                 fixed: ArrayLike | None = None, rotate: bool = True) -> FloatArray:
     """Poisson editing: keep the surface's Laplacian coordinates, turned, under the constraints.
 
     Minimizes ‖ΔQ − R ΔP‖² (mass-matrix norm) over the edited surface Q with the `handle`
@@ -22,8 +22,8 @@ def poisson_edit(V: ArrayLike, F: ArrayLike, handle: ArrayLike, fixed: ArrayLike
     bi-harmonic weight w_i (1 on the handle, 0 on the fixed vertices), so a twisted or bent handle
     carries the surface's details round with it.
 
-    V: (n, 3) float, F: (m, 3) int, handle: (h,) distinct indices (non-empty), fixed: (f,) distinct
-    indices not in `handle` (or None), handle_positions: (h, 3). Returns (n, 3) float64.
+    V: (n, 3) float, F: (m, 3) int, handle: (h,) distinct indices (non-empty), handle_positions:
+    (h, 3), fixed: (f,) distinct indices not in `handle` (or None). Returns (n, 3) float64.
     Raises InputError as :class:`Deformer`, or for handle_positions of the wrong shape or NaN/Inf.
     """
     empty = np.zeros(0, dtype=np.int64)
