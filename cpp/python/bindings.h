@@ -20,6 +20,7 @@ void bind_decimation_progressive(pybind11::module_& m);
 void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls both on "parametrization"
 void bind_parametrization_abf(pybind11::module_& m);
 void bind_repair(pybind11::module_& m);
-void bind_smoothing_fairing(pybind11::module_& m);       // on "smoothing" (with the smoothing chapter's own)
+void bind_smoothing(pybind11::module_& m);
+void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls both on "smoothing"
 void bind_deformation(pybind11::module_& m);
 }  // namespace meshsmith::python

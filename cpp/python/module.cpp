@@ -36,6 +36,7 @@ PYBIND11_MODULE(_core, m) {
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
   auto smoothing = m.def_submodule("smoothing");
+  meshsmith::python::bind_smoothing(smoothing);
   meshsmith::python::bind_smoothing_fairing(smoothing);
   auto deformation = m.def_submodule("deformation");
   meshsmith::python::bind_deformation(deformation);
