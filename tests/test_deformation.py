@@ -257,3 +257,14 @@ def test_multiresolution_edit_keeps_details_under_identity_and_rigid_base_edits(
                        np.linalg.norm(V - constrained_base, axis=1), atol=1e-10)
     with pytest.raises(meshsmith.InputError):
         deformation.multiresolution_edit(V, F, fixed, lambda base: base[:-1])
+
+
+def test_demo_stage_pictures_and_arap_lowest_energy(tmp_path):
+    from meshsmith.demo import DemoContext, builtin_shape
+    from meshsmith.demo.deformation import stage_deformation
+    name, V, F, uv = builtin_shape()
+    context = DemoContext(tmp_path, name, V, F, uv)
+    section = stage_deformation(context)
+    assert len(section.images) == 3 and all((tmp_path / image).stat().st_size > 1000 for image, _ in section.images)
+    energy = {key.split(":")[0]: value for key, value in context.figures["deformation"].items() if "energy" in key}
+    assert energy["ARAP, 10 iterations"] < min(energy["bi-Laplacian"], energy["bi-Laplacian with details"])

@@ -6,6 +6,7 @@ writes its outputs into `context.out` and returns the HTML section that shows th
 """
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
+from .deformation import stage_deformation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
@@ -18,4 +19,4 @@ from .tessellation import stage_crust, stage_tessellation
 
 __all__ = ["run_demo", "STAGES", "DemoContext", "Section", "builtin_shape", "html_report", "stage_clean", "stage_input",
            "stage_pictures", "stage_curvature", "stage_tessellation", "stage_crust", "stage_decimation",
-           "stage_parametrization", "stage_smoothing"]
+           "stage_parametrization", "stage_smoothing", "stage_deformation"]

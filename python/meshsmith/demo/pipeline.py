@@ -11,6 +11,7 @@ from .. import InputError, core, io
 from .._typing import ProgressCallback
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
+from .deformation import stage_deformation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
@@ -22,7 +23,7 @@ from .tessellation import stage_crust, stage_tessellation
 
 #: Every chapter's stage, in pipeline order; a new chapter adds its stage here.
 STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_smoothing,
-          stage_decimation, stage_parametrization]
+          stage_deformation, stage_decimation, stage_parametrization]
 
 
 def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:
