@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <string>
 
 namespace meshsmith::deformation {
@@ -64,6 +65,9 @@ Eigen::SparseMatrix<double> k_harmonic_operator(const VertexRef& V, const FaceRe
 
 struct KHarmonicSolver::Factorization {
   meshsmith::detail::MeshCholesky<double> cholesky;
+  /// CHOLMOD's solve works in the factorization's cholmod_common: one solve at a time, so that
+  /// Python threads (the bindings release the GIL) may share a Deformer.
+  std::mutex solving;
   Eigen::SparseMatrix<double> coupling;  ///< Q_FC: #free×#constrained
 };
 
@@ -196,12 +200,15 @@ Eigen::MatrixXd KHarmonicSolver::solve_free_impl(const Eigen::Ref<const Eigen::M
   Eigen::MatrixXd rhs = -(factorization_->coupling * constrained_values);
   if (free_rhs) rhs += *free_rhs;
   Eigen::MatrixXd solution;
+  bool solved = false;
   {
+    const std::lock_guard<std::mutex> one_solve(factorization_->solving);
     const meshsmith::detail::SingleThreadedBlas one_blas_thread;
     const meshsmith::detail::SingleThreadedOpenMp one_thread;
     solution = factorization_->cholesky.solve(rhs);
+    solved = factorization_->cholesky.info() == Eigen::Success;
   }
-  if (factorization_->cholesky.info() != Eigen::Success || !solution.allFinite()) {
+  if (!solved || !solution.allFinite()) {
     throw SolverError(std::string(function) + ": the back-substitution produced non-finite values");
   }
   return solution;

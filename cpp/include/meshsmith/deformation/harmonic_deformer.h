@@ -30,7 +30,8 @@ Eigen::SparseMatrix<double> k_harmonic_operator(const VertexRef& V, const FaceRe
 /// free block Q_FF factorized once (CHOLMOD, supernodal LLᵀ), so that solve() costs one pair of
 /// triangular solves for any values at the constrained vertices.
 /// Free vertices: every vertex used by a face that is not constrained. Vertices used by no face
-/// are neither free nor solved for (their rows of a solution are 0).
+/// are neither free nor solved for (their rows of a solution are 0). Solves may be called from
+/// several threads (they run one at a time).
 class KHarmonicSolver {
  public:
   /// V: #V×3 positions, F: #F×3 triangles, constrained: distinct vertex indices (any order),
