@@ -186,6 +186,23 @@ VALID = {
                                                "indices": np.array([0, 5, 41])},
     "repair.ReferencedMesh.from_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                                  "indices": np.array([0, 6, 42])},
+    "deformation.harmonic": {"b": np.array([0, 5, 9]), "bc": np.array([[0.0], [1.0], [2.0]]), "order": 2},
+    "deformation.Deformer": {"handle": np.array([0, 1]), "fixed": np.array([30, 31]), "order": 2},
+    "deformation.Deformer.deform": {"owner": ("deformation.Deformer", (SPHERE_V, SPHERE_F, np.array([0, 1]), np.array([30, 31]))),
+                                    "handle_positions": SPHERE_V[[0, 1]] + 0.1},
+    "deformation.Deformer.transform": {"owner": ("deformation.Deformer", (SPHERE_V, SPHERE_F, np.array([0, 1]), np.array([30, 31]))),
+                                       "T": np.eye(4)},
+    "deformation.ArapDeformer": {"handles": np.array([0, 1, 30])},
+    "deformation.ArapDeformer.solve": {"owner": ("deformation.ArapDeformer", (SPHERE_V, SPHERE_F, np.array([0, 1, 30]))),
+                                       "positions": SPHERE_V[[0, 1, 30]] + 0.1, "iterations": 2},
+    "deformation.ArapDeformer.energy": {"owner": ("deformation.ArapDeformer", (SPHERE_V, SPHERE_F, np.array([0, 1, 30]))),
+                                        "U": 1.1 * SPHERE_V},
+    "deformation.arap": {"handles": np.array([0, 1, 30]), "positions": SPHERE_V[[0, 1, 30]] + 0.1, "iterations": 2},
+    "deformation.arap_energy": {"U": 1.1 * SPHERE_V},
+    "smoothing.bilaplacian": {"fixed": np.array([0, 5, 9])},
+    "deformation.poisson_edit": {"handle": np.array([0, 1]), "fixed": np.array([30, 31]),
+                                 "handle_positions": SPHERE_V[[0, 1]] + 0.1},
+    "deformation.multiresolution_edit": {"fixed": np.array([0, 1, 30]), "base_edit": 1.1 * SPHERE_V},
     "smoothing.laplacian": {"fixed": np.array([0, 3]), "epsilon_ball": 0.05},
     "smoothing.taubin": {"fixed": np.array([1]), "error_slab": 0.05},
     "smoothing.smooth_curve": {"P": CURVE, "fixed": np.array([2]), "epsilon_ball": 0.1},
@@ -219,7 +236,8 @@ NAN_ALLOWED: dict[str, tuple] = {
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
-             "repair.ReferencedMesh.from_input_indices", "smoothing.transfer_function"}
+             "repair.ReferencedMesh.from_input_indices", "smoothing.transfer_function",
+             "deformation.harmonic"}  # bc: (#b, c) for any number c of value columns
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.

@@ -23,4 +23,6 @@ void bind_repair(pybind11::module_& m);
 void bind_smoothing(pybind11::module_& m);
 void bind_registration(pybind11::module_& m);
 void bind_reconstruction_depth(pybind11::module_& m);     // on "reconstruction"
+void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls both on "smoothing"
+void bind_deformation(pybind11::module_& m);
 }  // namespace meshsmith::python

@@ -10,6 +10,7 @@ from . import (
                curves,
                datasets,
                decimation,
+               deformation,
                geometry,
                io,
                parametrization,
@@ -44,6 +45,7 @@ __all__ = [
     "smoothing",
     "registration",
     "reconstruction",
+    "deformation",
     "datasets",
     "__version__",
 ]

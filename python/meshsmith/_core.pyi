@@ -22,5 +22,6 @@ parametrization: Any
 smoothing: Any
 registration: Any
 reconstruction: Any
+deformation: Any
 
 def __getattr__(name: str) -> Any: ...

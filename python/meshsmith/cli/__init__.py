@@ -37,6 +37,7 @@ from .. import Cancelled, InputError, SolverError
 from ..core import version
 from . import (
     decimation,
+    deformation,
     demo,
     geometry,
     io,
@@ -66,6 +67,7 @@ CHAPTERS = (
     smoothing,
     decimation,
     parametrization,
+    deformation,
     demo,
 )
 

@@ -34,11 +34,21 @@ def _taubin(args: argparse.Namespace, V: np.ndarray, F: np.ndarray, progress: Pr
                             **_options(args, V, F))
 
 
-#: `--method` choices: name -> runner(args, V, F, progress) returning the smoothed positions. The
-#: bi-Laplacian fairing of the deformation work adds its entry here.
+def _bilaplacian(args: argparse.Namespace, V: np.ndarray, F: np.ndarray, progress: ProgressBar) -> FloatArray:
+    """One solve of Δ²x = 0 with the boundary ring held: no steps, weights or error bound."""
+    for given, flag in ((args.implicit, "--implicit"), (args.epsilon is not None, "--epsilon"),
+                        (args.lam is not None, "--lambda"), (args.direction != "full", "--direction"),
+                        (args.weights != "uniform", "--weights")):
+        if given:
+            raise UsageError(f"{flag} does not apply to --method bilaplacian (one cotan bi-Laplace solve)")
+    return smoothing.bilaplacian(V, F)
+
+
+#: `--method` choices: name -> runner(args, V, F, progress) returning the smoothed positions.
 METHODS: dict[str, Callable[[argparse.Namespace, np.ndarray, np.ndarray, ProgressBar], FloatArray]] = {
     "laplacian": _laplacian,
     "taubin": _taubin,
+    "bilaplacian": _bilaplacian,
 }
 
 
@@ -51,7 +61,8 @@ def command_smooth(args: argparse.Namespace) -> int:
     io.write_mesh(args.output, W, F)
     moved = np.linalg.norm(W - V, axis=1)
     diagonal = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
-    print(f"wrote {args.output}: {args.method} smoothing, {args.iterations} iterations, {len(V):,} vertices")
+    steps = "one solve" if args.method == "bilaplacian" else f"{args.iterations} iterations"
+    print(f"wrote {args.output}: {args.method} smoothing, {steps}, {len(V):,} vertices")
     print(f"vertices moved by {moved.mean():.6g} on average, {moved.max():.6g} at most "
           f"({100 * moved.max() / diagonal:.3g}% of the bounding-box diagonal)")
     if not topology.boundary_loops(F) and topology.is_manifold(F):
@@ -69,12 +80,15 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
                     "filter (default: removes noise, keeps the volume) or Laplacian steps (explicit, or implicit "
                     "with --implicit: stable for any --lambda). --epsilon keeps every vertex within that distance "
                     "of its input position (with --slab: only along its normal, free tangentially). Prints how far "
-                    "the vertices moved and, for a closed mesh, the volume before and after.",
+                    "the vertices moved and, for a closed mesh, the volume before and after. --method bilaplacian fairs "
+                    "the mesh in one solve of the bi-Laplace equation (the thin plate) with the boundary and the "
+                    "ring inside it held (a mesh with a boundary).",
         examples=["meshsmith smooth mesh.off -o smooth.obj",
                   "meshsmith smooth mesh.off -o laplace.ply --method laplacian --iterations 5 --weights cotan_delaunay",
                   "meshsmith smooth mesh.off -o bounded.obj --iterations 50 --epsilon 0.01",
                   "meshsmith smooth mesh.off -o slab.off --epsilon 0.005 --slab --direction normal",
-                  "meshsmith smooth disk.obj -o implicit.obj --method laplacian --implicit --lambda 5 --fix-boundary"])
+                  "meshsmith smooth disk.obj -o implicit.obj --method laplacian --implicit --lambda 5 --fix-boundary",
+                  "meshsmith smooth disk.obj -o faired.obj --method bilaplacian"])
     smooth.add_argument("input", help="mesh file (OBJ, OFF, PLY, STL)")
     smooth.add_argument("-o", "--output", required=True, help="smoothed mesh file (same faces)")
     smooth.add_argument("--method", choices=tuple(METHODS), default="taubin", help="default: taubin")

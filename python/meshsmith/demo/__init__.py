@@ -6,6 +6,7 @@ writes its outputs into `context.out` and returns the HTML section that shows th
 """
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
+from .deformation import stage_deformation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
@@ -34,4 +35,5 @@ __all__ = [
     "stage_parametrization",
     "stage_smoothing",
     "stage_registration",
+    "stage_deformation",
 ]

@@ -11,6 +11,7 @@ from .. import InputError, core, io
 from .._typing import ProgressCallback
 from .context import DemoContext, Section, builtin_shape
 from .decimation import stage_decimation
+from .deformation import stage_deformation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
@@ -30,6 +31,7 @@ STAGES = [
     stage_tessellation,
     stage_crust,
     stage_smoothing,
+    stage_deformation,
     stage_decimation,
     stage_parametrization,
     stage_registration,

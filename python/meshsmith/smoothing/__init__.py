@@ -7,9 +7,11 @@ only tangentially, with vertices held fixed and each vertex kept inside an epsil
 error slab around its input position at every step. Bad input raises
 :class:`meshsmith.InputError`.
 
-Modules, one per algorithm family: ``laplacian`` (laplacian, taubin), ``curve`` (smooth_curve).
+Modules, one per algorithm family: ``laplacian`` (laplacian, taubin), ``curve`` (smooth_curve), ``fairing``
+(bilaplacian).
 """
 from .curve import smooth_curve
+from .fairing import bilaplacian
 from .laplacian import DIRECTIONS, WEIGHTS, laplacian, taubin, transfer_function
 
-__all__ = ["WEIGHTS", "DIRECTIONS", "laplacian", "taubin", "transfer_function", "smooth_curve"]
+__all__ = ["WEIGHTS", "DIRECTIONS", "laplacian", "taubin", "transfer_function", "smooth_curve", "bilaplacian"]
