@@ -35,4 +35,5 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_parametrization_abf(parametrization);
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
+  meshsmith::python::bind_repair_holes(repair);
 }
