@@ -36,4 +36,6 @@ PYBIND11_MODULE(_core, m) {
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
   meshsmith::python::bind_repair_holes(repair);
+  meshsmith::python::bind_repair_intersections(repair);
+  meshsmith::python::bind_repair_degenerate(repair);
 }
