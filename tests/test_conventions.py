@@ -162,6 +162,7 @@ RESULTS = {
     "repair.orient_faces": (lambda tmp: repair.orient_faces(*sphere_with_unused_vertex()), ["F", "flipped"]),
     "repair.clean": (lambda tmp: repair.clean(*sphere_with_unused_vertex()), ["V", "F", "report"]),
     "repair.remove_needles_and_caps": (lambda tmp: repair.remove_needles_and_caps(*datasets.icosphere(1)), ["V", "F"]),
+    "repair.stitch_boundaries": (lambda tmp: repair.stitch_boundaries(*sphere_with_hole(), tolerance=1e-3), ["V", "F"]),
     "repair.fill_holes": (lambda tmp: repair.fill_holes(*sphere_with_hole()), ["V", "F", "report"]),
     "repair.fill_holes report": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report, ["patches", "unfilled"]),
     "repair.fill_holes patch": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report.patches[0],
