@@ -10,12 +10,14 @@ from . import (
                curves,
                datasets,
                decimation,
+               deformation,
                geometry,
                io,
                parametrization,
                points,
                render,
                repair,
+               smoothing,
                tessellation,
                topology,
 )
@@ -24,5 +26,6 @@ from ._core import Cancelled, InputError, SolverError
 __version__ = core.version()
 
 __all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
+           "smoothing", "deformation",
            "datasets",
            "__version__"]

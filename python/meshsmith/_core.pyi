@@ -19,5 +19,7 @@ points: Any
 tessellation: Any
 decimation: Any
 parametrization: Any
+smoothing: Any
+deformation: Any
 
 def __getattr__(name: str) -> Any: ...

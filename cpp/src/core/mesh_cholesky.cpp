@@ -7,7 +7,7 @@
 #include <initializer_list>
 #include <mutex>
 
-namespace meshsmith::parametrization::detail {
+namespace meshsmith::detail {
 
 namespace {
 
@@ -110,4 +110,4 @@ SingleThreadedOpenMp::~SingleThreadedOpenMp() {
   omp.set_dynamic(saved_dynamic_);
 }
 
-}  // namespace meshsmith::parametrization::detail
+}  // namespace meshsmith::detail
