@@ -66,6 +66,22 @@ def test_sphere_cap_is_closed_outward_and_near_the_sphere():
     assert (np.linalg.norm(new, axis=1) < 1 + 1e-9).all() and (new[:, 2] > 0.7).all()
 
 
+def test_fairing_bulges_the_cap_towards_the_sphere():
+    # Bi-Laplacian fairing continues the sphere into the hole (C¹ at the rim) where the refined
+    # patch alone spans it flat: the patch vertices come close to the unit sphere and the largest
+    # angle at the rim drops.
+    V, F = sphere_with_hole(4, cap=0.7)
+    flat = repair.fill_holes(V, F, fair=False)
+    faired = repair.fill_holes(V, F)
+    np.testing.assert_array_equal(flat.F, faired.F)                      # fairing moves, never reconnects
+    off_flat = np.abs(np.linalg.norm(flat.V[flat.report.patches[0].vertices], axis=1) - 1).mean()
+    off_faired = np.abs(np.linalg.norm(faired.V[faired.report.patches[0].vertices], axis=1) - 1).mean()
+    assert off_faired < 0.2 * off_flat and off_faired < 0.025        # thin plate, not the sphere itself
+    assert faired.report.patches[0].max_dihedral_angle < flat.report.patches[0].max_dihedral_angle
+    unrefined = repair.fill_holes(V, F, refine=False)
+    assert unrefined.report.patches[0].vertices.size == 0                # nothing to fair without refinement
+
+
 def test_planar_hole_patch_is_the_hole_exactly():
     V, F, hole_area = grid_with_square_hole()
     for refine in (False, True):

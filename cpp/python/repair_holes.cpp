@@ -14,7 +14,7 @@ namespace meshsmith::python {
 
 void bind_repair_holes(py::module_& m) {
   m.def("fill_holes", [](const py::object& V, const py::object& F, const py::object& holes, const py::object& max_hole_edges,
-                         double max_hole_diameter, bool keep_border, const std::string& search, bool refine,
+                         double max_hole_diameter, bool keep_border, const std::string& search, bool refine, bool fair,
                          double density, const py::object& callback) {
     const MeshArguments mesh(V, F);
     repair::FillHolesOptions options;
@@ -28,6 +28,7 @@ void bind_repair_holes(py::module_& m) {
     options.search = parse_choice<repair::HoleSearch>(search, "search", {{"delaunay", repair::HoleSearch::delaunay},
                                                                          {"exact", repair::HoleSearch::exact}});
     options.refine = refine;
+    options.fair = fair;
     options.density = density;
     const Progress progress = make_progress(callback);
     auto result = without_gil([&] { return repair::fill_holes(mesh.V(), mesh.F(), options, progress); });
@@ -57,7 +58,7 @@ void bind_repair_holes(py::module_& m) {
     return py::make_tuple(to_numpy(std::move(result.V)), indices_to_numpy(result.F), report);
   }, py::arg("V"), py::arg("F"), py::arg("holes") = py::none(), py::arg("max_hole_edges") = 0,
      py::arg("max_hole_diameter") = 0.0, py::arg("keep_border") = false, py::arg("search") = "delaunay",
-     py::arg("refine") = true, py::arg("density") = 1.4142135623730951, py::arg("progress") = py::none(),
+     py::arg("refine") = true, py::arg("fair") = true, py::arg("density") = 1.4142135623730951, py::arg("progress") = py::none(),
      "Liepa hole filling (§2.4.1). Returns (V, F, report); see meshsmith.repair.fill_holes.");
 }
 

@@ -10,6 +10,7 @@
 #include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/repair/fill_holes.h>
+#include <meshsmith/smoothing/fairing.h>
 #include <meshsmith/topology/boundary.h>
 #include <meshsmith/topology/components.h>
 #include <meshsmith/topology/edge_incidence.h>
@@ -355,6 +356,47 @@ void measure_patch(HolePatch& patch, const std::vector<int>& loop, const VertexM
   patch.edge_length_ratio = ring_mean > 0.0 ? patch_mean / ring_mean : std::numeric_limits<double>::quiet_NaN();
 }
 
+/// Fairs the new vertices of one patch (rows [first_new, first_new + count) of `points`, the
+/// normalized input vertices W followed by new_points): the bi-Laplacian system on the patch's
+/// faces and the mesh faces at its loop's vertices (their full one-rings: what Δ² at a new vertex
+/// reaches), every vertex but the new ones held.
+void fair_patch(const VertexMatrix& W, std::vector<Vec>& new_points, int first_new, int count,
+                const std::vector<std::array<int, 3>>& patch_faces, const std::vector<int>& loop, const FaceRef& F,
+                const std::vector<int>& face_offsets, const std::vector<int>& vertex_faces) {
+  const int n_input = static_cast<int>(W.rows());
+  std::unordered_map<int, int> local;
+  std::vector<int> global;
+  auto index = [&](int v) {
+    const auto [it, inserted] = local.emplace(v, static_cast<int>(global.size()));
+    if (inserted) global.push_back(v);
+    return it->second;
+  };
+  std::vector<std::array<int, 3>> faces;
+  for (const auto& t : patch_faces) faces.push_back({index(t[0]), index(t[1]), index(t[2])});
+  std::unordered_set<int> ring;
+  for (const int v : loop)
+    for (int j = face_offsets[v]; j < face_offsets[v + 1]; ++j) ring.insert(vertex_faces[j]);
+  std::vector<int> ring_faces(ring.begin(), ring.end());
+  std::sort(ring_faces.begin(), ring_faces.end());
+  for (const int f : ring_faces) faces.push_back({index(F(f, 0)), index(F(f, 1)), index(F(f, 2))});
+  VertexMatrix X(static_cast<Eigen::Index>(global.size()), 3);
+  std::vector<int> held;
+  for (std::size_t k = 0; k < global.size(); ++k) {
+    const int v = global[k];
+    const bool is_new = v >= first_new && v < first_new + count;
+    if (is_new) X.row(static_cast<Eigen::Index>(k)) = new_points[v - n_input].transpose();
+    else X.row(static_cast<Eigen::Index>(k)) = W.row(v);
+    if (!is_new) held.push_back(static_cast<int>(k));
+  }
+  FaceMatrix G(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t k = 0; k < faces.size(); ++k) G.row(static_cast<Eigen::Index>(k)) << faces[k][0], faces[k][1], faces[k][2];
+  const VertexMatrix faired = smoothing::bilaplacian(X, G, held);
+  for (std::size_t k = 0; k < global.size(); ++k) {
+    const int v = global[k];
+    if (v >= first_new && v < first_new + count) new_points[v - n_input] = faired.row(static_cast<Eigen::Index>(k)).transpose();
+  }
+}
+
 }  // namespace
 
 FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHolesOptions& options,
@@ -467,6 +509,7 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
   }
 
   // Fill.
+  std::vector<int> face_offsets, vertex_faces;   // built by the first patch that is faired
   std::vector<Vec> new_points;
   std::vector<std::array<int, 3>> new_faces;
   const int n_input = static_cast<int>(V.rows());
@@ -550,6 +593,21 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
     }
     record.faces = static_cast<int>(patch.n_faces());
     record.vertices = static_cast<int>(patch.n_vertices()) - n;
+    if (options.fair && record.vertices > 0) {
+      if (face_offsets.empty()) {
+        // Mesh faces by vertex, once: the one-rings the fairing system takes in.
+        face_offsets.assign(V.rows() + 1, 0);
+        for (Eigen::Index f = 0; f < F.rows(); ++f)
+          for (int c = 0; c < 3; ++c) ++face_offsets[F(f, c) + 1];
+        for (Eigen::Index v = 0; v < V.rows(); ++v) face_offsets[v + 1] += face_offsets[v];
+        vertex_faces.resize(3 * static_cast<std::size_t>(F.rows()));
+        std::vector<int> fill(face_offsets.begin(), face_offsets.end() - 1);
+        for (Eigen::Index f = 0; f < F.rows(); ++f)
+          for (int c = 0; c < 3; ++c) vertex_faces[fill[F(f, c)]++] = static_cast<int>(f);
+      }
+      const std::vector<std::array<int, 3>> patch_faces(new_faces.end() - record.faces, new_faces.end());
+      fair_patch(W, new_points, record.vertex_begin, record.vertices, patch_faces, loop, F, face_offsets, vertex_faces);
+    }
     result.patches.push_back(record);
     step.report(1.0, "filling holes");
   }

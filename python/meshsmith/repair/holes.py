@@ -1,5 +1,6 @@
 """Hole filling (§2.4.1, Liepa 2003): minimal-weight triangulation of each boundary loop by
-dynamic programming on a Delaunay search space, refinement to the surrounding density; binding
+dynamic programming on a Delaunay search space, refinement to the surrounding density,
+bi-Laplacian fairing; binding
 cpp/python/repair_holes.cpp, C++ src/repair/fill_holes.cpp."""
 from __future__ import annotations
 
@@ -100,7 +101,7 @@ class FilledMesh(NamedTuple):
 
 def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, max_hole_edges: int | None = None,
                max_hole_diameter: float | None = None, keep_border: bool = False, search: str = "delaunay",
-               refine: bool = True, density: float = float(np.sqrt(2.0)),
+               refine: bool = True, fair: bool = True, density: float = float(np.sqrt(2.0)),
                progress: ProgressCallback = None) -> FilledMesh:
     """Close the holes of a triangle mesh (§2.4.1, Liepa 2003).
 
@@ -113,7 +114,11 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
     O(n³) time and O(n²) memory (loops up to 2,000 edges). With ``refine``, each patch is then
     refined to the edge density around its hole (Liepa's rule: a triangle is split at its centroid
     while ``density`` times the centroid's distance to each corner exceeds the local edge length,
-    √2 by default), with Delaunay edge flips relaxing it after every split.
+    √2 by default), with Delaunay edge flips relaxing it after every split. With ``fair`` (and
+    ``refine``), the patch's new vertices then move to the solution of the bi-Laplacian equation
+    Δ²x = 0 (:func:`meshsmith.smoothing.bilaplacian`) on the patch and the faces around the hole,
+    every other vertex held, so the patch continues the surrounding surface with C¹ continuity
+    instead of spanning the hole flat. Each step can be switched off.
 
     Which loops (:func:`meshsmith.topology.boundary_loops`'s order, longest first): every one by
     default, so a scan comes out watertight; ``holes``: only these loop indices;
@@ -149,7 +154,7 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
         holes = _arguments.index_array(holes, "holes")
     V2, F2, raw = _core.fill_holes(V, F, holes=holes, max_hole_edges=max_hole_edges or 0,
                                    max_hole_diameter=diameter, keep_border=bool(keep_border), search=search,
-                                   refine=bool(refine), density=density, progress=progress)
+                                   refine=bool(refine), fair=bool(fair), density=density, progress=progress)
     patches = tuple(
         HolePatch(loop=loop, faces=np.arange(face_begin, face_begin + faces, dtype=np.int64),
                   vertices=np.arange(vertex_begin, vertex_begin + vertices, dtype=np.int64), loop_edges=loop_edges,

@@ -7,7 +7,9 @@
 /// the loop's vertices (Zou, Hu, Gu & Tai 2013, as CGAL does) or over every triangle (the exact
 /// O(n³) version). The patch is then refined to the edge density around the hole (Liepa's √2
 /// rule, splitting triangles at their centroids, with relaxing Delaunay flips) on the project's
-/// halfedge mesh (core/mesh.h).
+/// halfedge mesh (core/mesh.h), and faired: its new vertices move to the solution of the
+/// bi-Laplacian equation Δ²x = 0 (smoothing/fairing.h) with every other vertex held, so the patch
+/// meets the surrounding surface with C¹ continuity.
 #include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
 
@@ -34,6 +36,9 @@ struct FillHolesOptions {
   bool keep_border = false;
   HoleSearch search = HoleSearch::delaunay;
   bool refine = true;                ///< Liepa's √2 refinement with relaxing flips
+  /// Bi-Laplacian fairing of the refined patch's new vertices (on the patch and the mesh faces
+  /// at the loop's vertices, every vertex but the new ones held); nothing to do without refine.
+  bool fair = true;
   double density = 1.4142135623730951;  ///< the refinement factor (Liepa's √2)
 };
 
@@ -88,7 +93,7 @@ struct FillHolesResult {
 ///      opposite directions (repair::clean gives such a mesh).
 /// \throw InputError if validate_mesh fails, an edge has more than two faces or two faces in the
 ///        same direction, a loop index in options.holes is out of range, or an option is negative.
-/// \throw Cancelled from progress.
+/// \throw SolverError as smoothing::bilaplacian; Cancelled from progress.
 FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHolesOptions& options = {},
                            const Progress& progress = {});
 
