@@ -255,3 +255,27 @@ def test_stanford_bunny_holes(data_dir):
     assert all(p.search == "delaunay" for p in report.patches)
     # Five small holes on a closed bunny: the volume grows by a little.
     assert 0 < geometry.volume(V2, F2)
+
+
+# ---- the command line --------------------------------------------------------------------------
+
+def test_cli_repair_fills_and_reports(tmp_path, capsys):
+    import json
+
+    from meshsmith import cli
+    V, F = sphere_with_hole()
+    source, target, record = tmp_path / "in.obj", tmp_path / "out.ply", tmp_path / "report.json"
+    meshsmith.io.write_mesh(source, V, F)
+    assert cli.main(["repair", str(source), "-o", str(target), "--fill-holes", "--report", str(record)]) == 0
+    printed = capsys.readouterr().out
+    assert "1 of 1 holes filled" in printed and "0 boundary loops" in printed
+    V2, F2 = meshsmith.io.read_mesh(target)
+    assert topology.boundary_loops(F2) == [] and topology.is_manifold(F2)
+    report = json.loads(record.read_text())
+    assert report["fill_holes"]["filled"] == 1 and report["output"]["boundary_loops"] == 0
+    assert report["output"]["self_intersecting_pairs"] == 0 and report["output"]["faces"] == len(F2)
+    assert 0.8 <= report["fill_holes"]["patches"][0]["edge_length_ratio"] <= 1.25
+    # --max-hole below the hole's size leaves it open
+    assert cli.main(["repair", str(source), "-o", str(target), "--fill-holes", "--max-hole", "5"]) == 0
+    assert "0 of 1 holes filled" in capsys.readouterr().out
+    assert len(topology.boundary_loops(meshsmith.io.read_mesh(target)[1])) == 1
