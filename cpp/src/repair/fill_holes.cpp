@@ -77,7 +77,7 @@ struct Polygon {
 /// Chords (i, k) that a patch may not use: an edge the mesh already has, or both ends on one vertex.
 struct ChordRule {
   const Polygon& polygon;
-  const std::unordered_set<std::int64_t>& edges;
+  const std::unordered_set<std::int64_t>& edges;   // mesh edges between boundary vertices, and patch edges
   bool allowed(int i, int k) const {
     if (k == i + 1 || (i == 0 && k == polygon.size() - 1)) return true;   // a loop edge
     const int a = polygon.vertex[i], b = polygon.vertex[k];
@@ -439,12 +439,15 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
   // Boundary sides a → b with the third vertex of their face; σ, the mean edge length per vertex.
   std::unordered_map<std::int64_t, int> boundary_side;
   std::unordered_set<std::int64_t> edges;
-  edges.reserve(2 * incidence.n_edges());
   std::vector<double> length_sum(V.rows(), 0.0);
   std::vector<int> degree(V.rows(), 0);
+  // The chord rule asks only about pairs of boundary vertices: only their edges are hashed.
+  std::vector<char> on_boundary(V.rows(), 0);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e)
+    if (incidence.side_count(e) == 1) on_boundary[incidence.edges(e, 0)] = on_boundary[incidence.edges(e, 1)] = 1;
   for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
     const int a = incidence.edges(e, 0), b = incidence.edges(e, 1);
-    edges.insert(edge_key(a, b));
+    if (on_boundary[a] && on_boundary[b]) edges.insert(edge_key(a, b));
     const double length = (point(a) - point(b)).norm();
     length_sum[a] += length;
     length_sum[b] += length;
