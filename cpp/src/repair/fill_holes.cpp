@@ -241,6 +241,10 @@ std::vector<std::array<int, 3>> triangulate_delaunay(const Polygon& polygon, con
 /// locally Delaunay (opposite angles summing above π); repeat until no triangle splits.
 /// The loop's vertices (the first n of `patch`) stay where they are, no flip makes an edge between
 /// two of them, so the patch adds no edge the mesh may already have.
+/// Refinement stops splitting a patch at this many faces (a hole whose rim has near-zero edges
+/// would otherwise ask for a number of faces without bound).
+constexpr std::size_t kMaxRefinedFaces = std::size_t(1) << 21;
+
 void refine_patch(TriMesh& patch, int loop_vertices, std::vector<double>& sigma, double density) {
   auto is_loop = [&](TriMesh::VertexHandle v) { return v.idx() < loop_vertices; };
   auto angle_at = [&](TriMesh::VertexHandle apex, TriMesh::VertexHandle a, TriMesh::VertexHandle b) {
@@ -273,7 +277,7 @@ void refine_patch(TriMesh& patch, int loop_vertices, std::vector<double>& sigma,
   for (int pass = 0; pass < 64; ++pass) {
     bool split = false;
     const std::size_t faces = patch.n_faces();
-    for (std::size_t fi = 0; fi < faces; ++fi) {
+    for (std::size_t fi = 0; fi < faces && patch.n_faces() < kMaxRefinedFaces; ++fi) {
       const TriMesh::FaceHandle f(static_cast<int>(fi));
       TriMesh::VertexHandle corner[3];
       int c = 0;

@@ -35,7 +35,7 @@ struct FillHolesOptions {
   /// of a scan or the outline of an open surface.
   bool keep_border = false;
   HoleSearch search = HoleSearch::delaunay;
-  bool refine = true;                ///< Liepa's √2 refinement with relaxing flips
+  bool refine = true;                ///< Liepa's √2 refinement with relaxing flips (at most 2^21 faces a patch)
   /// Bi-Laplacian fairing of the refined patch's new vertices (on the patch and the mesh faces
   /// at the loop's vertices, every vertex but the new ones held); nothing to do without refine.
   bool fair = true;
