@@ -56,6 +56,9 @@ def inputs(tmp_path_factory):
     angles = np.linspace(0, 2 * np.pi, 60, endpoint=False)
     np.savetxt(folder / "circle.txt", np.column_stack([np.cos(angles), np.sin(angles)]))
     np.savetxt(folder / "weighted.txt", np.column_stack([rng.random((30, 2)), 0.01 * rng.random(30)]))
+    c, s = np.cos(0.5), np.sin(0.5)
+    np.savetxt(folder / "rotate.txt", [[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0.2], [0, 0, 0, 1]])
+    np.savetxt(folder / "lift.txt", [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0.3]])   # 3x4: the last row implied
     (folder / "domain.poly").write_text(
         "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
     return folder

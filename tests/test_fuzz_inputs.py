@@ -202,6 +202,13 @@ VALID = {
     "deformation.arap": {"handles": np.array([0, 1, 30]), "positions": SPHERE_V[[0, 1, 30]] + 0.1, "iterations": 2},
     "deformation.arap_energy": {"U": 1.1 * SPHERE_V},
     "smoothing.bilaplacian": {"fixed": np.array([0, 5, 9])},
+    "deformation.poisson_edit": {"handle": np.array([0, 1]), "fixed": np.array([30, 31]),
+                                 "handle_positions": SPHERE_V[[0, 1]] + 0.1},
+    "deformation.multiresolution_edit": {"fixed": np.array([0, 1, 30]), "base_edit": 1.1 * SPHERE_V},
+    "smoothing.laplacian": {"fixed": np.array([0, 3]), "epsilon_ball": 0.05},
+    "smoothing.taubin": {"fixed": np.array([1]), "error_slab": 0.05},
+    "smoothing.smooth_curve": {"P": CURVE, "fixed": np.array([2]), "epsilon_ball": 0.1},
+    "smoothing.transfer_function": {"k": np.linspace(0.0, 2.0, 5)},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},
@@ -221,7 +228,8 @@ NAN_ALLOWED: dict[str, tuple] = {
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
-             "repair.ReferencedMesh.from_input_indices"}
+             "repair.ReferencedMesh.from_input_indices", "smoothing.transfer_function",
+             "deformation.harmonic"}  # bc: (#b, c) for any number c of value columns
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.
@@ -358,7 +366,7 @@ def array_variants(a: np.ndarray, optional: bool, mesh_faces: bool, profile: Pro
         out.append(("bool", a != 0, REJECT))
     if a.ndim == 2:
         out.append(("1-d", a.ravel(), REJECT))
-        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else 4
+        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else (5 if a.shape[1] == 4 else 4)
         wrong = np.hstack([a] * 7)[:, :columns]
         out.append((f"{columns} columns", wrong, REJECT))
         out.append(("empty", a[:0] if profile.empty_rows else [], EITHER))

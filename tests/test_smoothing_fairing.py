@@ -67,3 +67,22 @@ def test_a_free_component_is_named():
     V2, F2 = np.vstack([V, V + 3]), np.vstack([F, F + len(V)])
     with pytest.raises(meshsmith.InputError, match=f"vertex {len(V)} is in a connected part"):
         smoothing.bilaplacian(V2, F2, fixed=[0])
+
+
+def test_meshsmith_smooth_bilaplacian_writes_the_fairing(tmp_path):
+    import subprocess
+    import sys
+
+    from meshsmith import io
+    V, F = datasets.disk(n_rings=10, n_segments=40)
+    V = V + 0.01 * np.random.default_rng(2).standard_normal(V.shape)
+    io.write_mesh(tmp_path / "disk.ply", V, F)
+    run = lambda *args: subprocess.run([sys.executable, "-m", "meshsmith", "smooth", *map(str, args)],  # noqa: E731
+                                       capture_output=True, text=True)
+    result = run(tmp_path / "disk.ply", "-o", tmp_path / "faired.ply", "--method", "bilaplacian")
+    assert result.returncode == 0, result.stderr
+    assert "bilaplacian smoothing, one solve" in result.stdout
+    U, _ = io.read_mesh(tmp_path / "faired.ply")
+    assert np.abs(U - smoothing.bilaplacian(io.read_mesh(tmp_path / "disk.ply")[0], F)).max() <= 1e-6
+    bad = run(tmp_path / "disk.ply", "-o", tmp_path / "x.ply", "--method", "bilaplacian", "--epsilon", "0.1")
+    assert bad.returncode == 2 and "--epsilon does not apply to --method bilaplacian" in bad.stderr

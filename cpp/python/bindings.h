@@ -23,6 +23,7 @@ void bind_repair(pybind11::module_& m);
 void bind_repair_holes(pybind11::module_& m);           // module.cpp calls these three on "repair" too
 void bind_repair_intersections(pybind11::module_& m);
 void bind_repair_degenerate(pybind11::module_& m);
-void bind_smoothing_fairing(pybind11::module_& m);       // on "smoothing" (with the smoothing chapter's own)
+void bind_smoothing(pybind11::module_& m);
+void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls both on "smoothing"
 void bind_deformation(pybind11::module_& m);
 }  // namespace meshsmith::python

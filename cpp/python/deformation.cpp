@@ -5,6 +5,8 @@
 
 #include <meshsmith/deformation/arap.h>
 #include <meshsmith/deformation/harmonic_deformer.h>
+#include <meshsmith/deformation/multiresolution.h>
+#include <meshsmith/deformation/poisson_edit.h>
 
 #include <optional>
 #include <string>
@@ -117,6 +119,25 @@ void bind_deformation(py::module_& m) {
       .def_property_readonly("handles", [](const ArapDeformer& d) {
         return indices_to_numpy(Eigen::Map<const Eigen::VectorXi>(d.handles().data(), d.handles().size()));
       });
+
+  m.def("poisson_edit", [](const py::object& V, const py::object& F, const py::object& handle, const py::object& fixed,
+                           const py::object& positions, bool rotate) {
+    const MeshArguments mesh(V, F);
+    const std::vector<int> handle_vertices = vertex_list(handle, "handle");
+    const std::vector<int> fixed_vertices = vertex_list(fixed, "fixed");
+    const VertexMatrix P = positions_argument(positions, "handle_positions");
+    return to_numpy(without_gil([&] {
+      return deformation::poisson_edit(mesh.V(), mesh.F(), handle_vertices, fixed_vertices, P, rotate);
+    }));
+  }, py::arg("V"), py::arg("F"), py::arg("handle"), py::arg("fixed"), py::arg("handle_positions"),
+     py::arg("rotate") = true);
+
+  m.def("transfer_details", [](const py::object& V, const py::object& base, const py::object& F,
+                               const py::object& edited_base) {
+    const MeshArguments mesh(V, F);
+    const VertexMatrix B = positions_argument(base, "base"), E = positions_argument(edited_base, "edited_base");
+    return to_numpy(without_gil([&] { return deformation::transfer_details(mesh.V(), B, mesh.F(), E); }));
+  }, py::arg("V"), py::arg("base"), py::arg("F"), py::arg("edited_base"));
 
   m.def("arap_energy", [](const py::object& V, const py::object& F, const py::object& U) {
     const MeshArguments mesh(V, F);

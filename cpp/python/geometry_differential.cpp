@@ -79,9 +79,11 @@ void bind_geometry_differential(py::module_& m) {
     return to_numpy(with_mesh(V, F, [w](const auto& v, const auto& f) { return vertex_normals(v, f, w); }));
   }, py::arg("V"), py::arg("F"), py::arg("weighting") = "angle");
 
-  m.def("cotan_laplacian", [](const py::object& V, const py::object& F) {
-    return sparse_to_python(with_mesh(V, F, [](const auto& v, const auto& f) { return cotan_laplacian(v, f); }));
-  }, py::arg("V"), py::arg("F"));
+  m.def("cotan_laplacian", [](const py::object& V, const py::object& F, bool intrinsic_delaunay) {
+    return sparse_to_python(with_mesh(V, F, [intrinsic_delaunay](const auto& v, const auto& f) {
+      return intrinsic_delaunay ? intrinsic_delaunay_cotan_laplacian(v, f) : cotan_laplacian(v, f);
+    }));
+  }, py::arg("V"), py::arg("F"), py::arg("intrinsic_delaunay") = false);
 
   m.def("mean_value_laplacian", [](const py::object& V, const py::object& F) {
     return sparse_to_python(with_mesh(V, F, [](const auto& v, const auto& f) { return mean_value_laplacian(v, f); }));

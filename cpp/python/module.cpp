@@ -39,6 +39,7 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_repair_intersections(repair);
   meshsmith::python::bind_repair_degenerate(repair);
   auto smoothing = m.def_submodule("smoothing");
+  meshsmith::python::bind_smoothing(smoothing);
   meshsmith::python::bind_smoothing_fairing(smoothing);
   auto deformation = m.def_submodule("deformation");
   meshsmith::python::bind_deformation(deformation);

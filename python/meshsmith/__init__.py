@@ -25,7 +25,6 @@ from ._core import Cancelled, InputError, SolverError
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
-           "smoothing", "deformation",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization", "smoothing", "deformation",
            "datasets",
            "__version__"]

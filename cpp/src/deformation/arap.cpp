@@ -9,22 +9,16 @@
 // vertices). The local step fits each R_i to M_i = Σ_{t ∋ i} Σ_{(j,k) ∈ t} c_jk (u_j − u_k)(v_j − v_k)ᵀ
 // (per-face sums first, then gathered per vertex: both passes parallel and deterministic).
 //
-// Rotation fit: R = U diag(1, 1, det) Vᵀ from the SVD M = U Σ Vᵀ, computed from the closed-form
-// eigen-decomposition of MᵀM (Eigen's computeDirect): v₁, v₂ the two leading eigenvectors,
-// u₁ = M v₁ / ‖M v₁‖, u₂ = the normalized part of M v₂ orthogonal to u₁, and the third columns
-// u₁ × u₂ and v₁ × v₂, which makes R proper and optimal among rotations (the sign goes to the
-// smallest singular value). Measured here about 6× cheaper than Eigen's 3×3 JacobiSVD, which is
-// kept as the fallback when M is close to rank one (σ₂ ≤ 1e-6 σ₁).
+// Rotation fit: rotation_fit.h.
 #include <meshsmith/deformation/arap.h>
 
+#include "rotation_fit.h"
 #include "vertex_sets.h"
 
 #include <meshsmith/core/errors.h>
 #include <meshsmith/core/validation.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 
@@ -39,43 +33,6 @@ namespace {
 using FaceBlocks = Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>;
 using RowMatrix3d = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
-/// The rotation R maximizing tr(Rᵀ M) (the proper orthogonal polar factor of M).
-Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& M_in) {
-  const double scale = M_in.cwiseAbs().maxCoeff();
-  if (!(scale > 0.0) || !std::isfinite(scale)) return Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d M = M_in / scale;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-  eigen.computeDirect(M.transpose() * M);
-  Eigen::Vector3d v1 = eigen.eigenvectors().col(2).normalized();
-  Eigen::Vector3d v2 = eigen.eigenvectors().col(1);
-  v2 = (v2 - v2.dot(v1) * v1).normalized();
-  const Eigen::Vector3d Mv1 = M * v1;
-  Eigen::Vector3d Mv2 = M * v2;
-  const double s1 = Mv1.norm();
-  const Eigen::Vector3d u1 = Mv1 / s1;
-  Mv2 -= Mv2.dot(u1) * u1;
-  const double s2 = Mv2.norm();
-  if (!(s2 > 1e-6 * s1) || !std::isfinite(s2)) {
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d U = svd.matrixU();
-    if ((U * svd.matrixV().transpose()).determinant() < 0.0) U.col(2) = -U.col(2);
-    return U * svd.matrixV().transpose();
-  }
-  const Eigen::Vector3d u2 = Mv2 / s2;
-  return u1 * v1.transpose() + u2 * v2.transpose() + u1.cross(u2) * v1.cross(v2).transpose();
-}
-
-void check_positions(const VertexRef& U, Eigen::Index rows, const char* name, const char* function) {
-  if (U.rows() != rows) {
-    throw InputError(std::string(function) + ": " + name + " has " + std::to_string(U.rows()) + " rows, expected " +
-                     std::to_string(rows));
-  }
-  validate_vertices(U, name);
-}
-
-}  // namespace
-
-namespace {
 
 const std::vector<int>& checked_handles(const VertexRef& V, const FaceRef& F, const std::vector<int>& handles) {
   validate_mesh(V, F);
@@ -146,7 +103,7 @@ void ArapDeformer::fit_rotations(const VertexMatrix& U, Workspace& work) const {
       for (int at = vertex_face_offsets_[v]; at < vertex_face_offsets_[v + 1]; ++at) {
         M += Eigen::Map<const RowMatrix3d>(&work.face_blocks(vertex_faces_[at] / 3, 0));
       }
-      work.rotations[v] = best_rotation(M);
+      work.rotations[v] = detail::best_rotation(M);
     }
   });
 }
@@ -157,14 +114,14 @@ VertexMatrix ArapDeformer::solve(const VertexRef& positions, int iterations, con
   const std::vector<int>& handles = solver_.constrained();
   const std::vector<int>& free = solver_.free_vertices();
   const Eigen::Index n = V_.rows(), n_free = static_cast<Eigen::Index>(free.size());
-  check_positions(positions, static_cast<Eigen::Index>(handles.size()), "positions", function);
+  detail::check_positions(positions, static_cast<Eigen::Index>(handles.size()), "positions", function);
   if (iterations < 0) {
     throw InputError(std::string(function) + ": iterations = " + std::to_string(iterations) + ": expected >= 0");
   }
   const Eigen::MatrixXd held = positions;
   VertexMatrix U;
   if (initial) {
-    check_positions(*initial, n, "initial", function);
+    detail::check_positions(*initial, n, "initial", function);
     U = *initial;
   } else {  // the handles' displacement spread harmonically (the order-1 system is the same −L_FF)
     Eigen::MatrixXd moves(held.rows(), 3);
@@ -211,7 +168,7 @@ VertexMatrix ArapDeformer::solve(const VertexRef& positions, int iterations, con
 }
 
 double ArapDeformer::energy(const VertexRef& U_in) const {
-  check_positions(U_in, V_.rows(), "U", "arap_energy");
+  detail::check_positions(U_in, V_.rows(), "U", "arap_energy");
   const VertexMatrix U = U_in;
   Workspace work;
   fit_rotations(U, work);
@@ -236,7 +193,7 @@ double ArapDeformer::energy(const VertexRef& U_in) const {
 
 double arap_energy(const VertexRef& V, const FaceRef& F, const VertexRef& U) {
   validate_mesh(V, F);
-  check_positions(U, V.rows(), "U", "arap_energy");
+  detail::check_positions(U, V.rows(), "U", "arap_energy");
   // The energy needs only the weights and adjacency; every vertex is a "handle" so that no
   // system is factorized (there are no free vertices).
   std::vector<int> all(static_cast<std::size_t>(V.rows()));

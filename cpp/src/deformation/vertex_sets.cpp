@@ -1,6 +1,7 @@
 #include "vertex_sets.h"
 
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/validation.h>
 
 #include <cmath>
 #include <string>
@@ -33,6 +34,14 @@ void check_disjoint(const std::vector<int>& first, const std::vector<int>& secon
                        " and in " + second_name + "; a vertex can only be one of them");
     }
   }
+}
+
+void check_positions(const VertexRef& X, Eigen::Index rows, const char* name, const char* function) {
+  if (X.rows() != rows) {
+    throw InputError(std::string(function) + ": " + name + " has " + std::to_string(X.rows()) + " rows, expected " +
+                     std::to_string(rows));
+  }
+  validate_vertices(X, name);
 }
 
 void check_affine(const Eigen::Matrix4d& T, const char* function) {

@@ -2,6 +2,8 @@
 // Internal to the deformation chapter: the checks of the vertex sets (handles, fixed vertices,
 // constraints) that every solver of the chapter takes, and the connectivity test that turns a
 // singular system into a clear InputError before CHOLMOD sees it.
+#include <meshsmith/core/types.h>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -17,6 +19,9 @@ void check_vertex_set(const std::vector<int>& indices, Eigen::Index n, const cha
 /// \throw InputError naming the first vertex of `second` that is also in `first`.
 void check_disjoint(const std::vector<int>& first, const std::vector<int>& second, Eigen::Index n,
                     const char* first_name, const char* second_name, const char* function);
+
+/// \throw InputError "<function>: <name> has r rows, expected n" or as validate_vertices (NaN/Inf).
+void check_positions(const VertexRef& X, Eigen::Index rows, const char* name, const char* function);
 
 /// \throw InputError if T (row-major 16 numbers) holds NaN/Inf or its last row is not (0, 0, 0, 1).
 void check_affine(const Eigen::Matrix4d& T, const char* function);

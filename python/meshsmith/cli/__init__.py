@@ -11,6 +11,7 @@
     meshsmith voronoi IN -o cells.png;  meshsmith power IN -o cells.png;  meshsmith crust IN -o OUT
     meshsmith decimate IN -o OUT (--faces N | --ratio r | --error eps) [--method qem|cluster] [--progressive OUT.pm]
     meshsmith lod IN.pm --faces N -o OUT
+    meshsmith smooth IN -o OUT [--method laplacian|taubin] [--iterations N] [--epsilon E [--slab]] ...
     meshsmith parametrize IN --method tutte|harmonic|stretch|lscm|abf|abf++ -o OUT.obj [--picture P.png]
     meshsmith demo [--out DIR] [--input FILE]
 
@@ -35,6 +36,7 @@ from .. import Cancelled, InputError, SolverError
 from ..core import version
 from . import (
     decimation,
+    deformation,
     demo,
     geometry,
     io,
@@ -42,6 +44,7 @@ from . import (
     points,
     render,
     repair,
+    smoothing,
     tessellation,
     topology,
 )
@@ -50,7 +53,8 @@ from .common import ArgumentParser, ProgressBar, UsageError, user_message
 __all__ = ["main", "build_parser", "ProgressBar", "CHAPTERS"]
 
 #: The chapters' command modules, in the order their commands appear in ``meshsmith --help``.
-CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, decimation, parametrization, demo)
+CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, smoothing, decimation, parametrization,
+            deformation, demo)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -125,6 +125,7 @@ FLAGS: dict[str, dict[str, str]] = {
     "curvature": {"scalar_range": "--range", "size": "--width/--height"},
     "lod": {"n_faces": "--faces"},
     "parametrize": {"method": "--method"},
+    "smooth": {"lam": "--lambda", "mu": "--mu", "epsilon_ball": "--epsilon", "error_slab": "--epsilon"},
 }
 
 #: Advice in the library's messages that names Python calls, and what the command line says instead.

@@ -8,9 +8,11 @@ it per frame. Bad input (overlapping handle and fixed sets, empty handles, a con
 nothing holds, NaN transforms) raises :class:`meshsmith.InputError`.
 
 Modules, one per algorithm family: ``harmonic`` (k-harmonic interpolation, :class:`Deformer`),
-``arap``.
+``multiresolution``, ``poisson``, ``arap``.
 """
 from .arap import ArapDeformer, arap, arap_energy
 from .harmonic import Deformer, harmonic
+from .multiresolution import multiresolution_edit
+from .poisson import poisson_edit
 
-__all__ = ["harmonic", "Deformer", "arap", "ArapDeformer", "arap_energy"]
+__all__ = ["harmonic", "Deformer", "multiresolution_edit", "poisson_edit", "arap", "ArapDeformer", "arap_energy"]

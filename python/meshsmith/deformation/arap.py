@@ -3,7 +3,7 @@ libigl's default); binding cpp/python/deformation.cpp, C++ src/deformation/arap.
 from __future__ import annotations
 
 from .._core import deformation as _core
-from .._typing import ArrayLike, FloatArray, ProgressCallback
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 
 __all__ = ["arap", "ArapDeformer", "arap_energy"]
 
@@ -24,7 +24,7 @@ class ArapDeformer:
         self._deformer = _core.ArapDeformer(V, F, handles)
 
     @property
-    def handles(self):  # noqa: ANN201 - int64 array
+    def handles(self) -> IndexArray:
         """(h,) int64 handle vertices, in the order positions are given."""
         return self._deformer.handles
 

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _arguments
 from .._core import deformation as _core
-from .._typing import ArrayLike, FloatArray
+from .._typing import ArrayLike, FloatArray, IndexArray
 
 __all__ = ["harmonic", "Deformer"]
 
@@ -19,21 +18,18 @@ def harmonic(V: ArrayLike, F: ArrayLike, b: ArrayLike, bc: ArrayLike, *, order: 
     cotan Laplacian and M the Voronoi mass matrix: order 1 is ΔX = 0, order 2 the bi-Laplace
     (thin plate) equation Δ²X = 0, order 3 Δ³X = 0.
 
-    V: (n, 3) float, F: (m, 3) int, b: (k,) distinct vertex indices, bc: (k,) or (k, c) values.
-    Returns (n,) or (n, c) float64 (rows of vertices used by no face are 0).
+    V: (n, 3) float, F: (m, 3) int, b: (k,) distinct vertex indices, bc: (k, c) values.
+    Returns (n, c) float64 (rows of vertices used by no face are 0).
     Raises InputError for bad shapes or indices, NaN/Inf, order not in {1, 2, 3}, or a connected
     part of the mesh without a vertex of `b` (the system would be singular there).
     """
-    values = _arguments.numbers(bc, "bc")
-    vector = values.ndim == 1
-    X = _core.harmonic(V, F, b, values.reshape(-1, 1) if vector else values, order)
-    return X[:, 0] if vector else X
+    return _core.harmonic(V, F, b, bc, order)
 
 
 class Deformer:
     """Handle-based deformation with a precomputed k-harmonic system (§3.1.1).
 
-    ``Deformer(V, F, handle, fixed, *, order=2, details=False)``: the `handle` vertices are moved
+    ``Deformer(V, F, handle, fixed=None, *, order=2, details=False)``: the `handle` vertices are moved
     by the user, the `fixed` ones stay, and the displacement of every other vertex solves
     Q d = 0 (order 2: Δ²d = 0, so the result equals ``V + igl.harmonic(V, F, b, D_b, 2)`` with
     D_b the handle and fixed displacements). The constructor factorizes the system once;
@@ -52,19 +48,19 @@ class Deformer:
     or fixed vertex.
     """
 
-    def __init__(self, V: ArrayLike, F: ArrayLike, handle: ArrayLike, fixed: ArrayLike | None, *, order: int = 2,
+    def __init__(self, V: ArrayLike, F: ArrayLike, handle: ArrayLike, fixed: ArrayLike | None = None, *, order: int = 2,
                  details: bool = False) -> None:
         empty = np.zeros(0, dtype=np.int64)
         self._deformer = _core.HarmonicDeformer(V, F, handle, empty if fixed is None else fixed, order,
                                                 bool(details))
 
     @property
-    def handle(self) -> np.ndarray:
+    def handle(self) -> IndexArray:
         """(h,) int64 handle vertices, in the order handle positions are given."""
         return self._deformer.handle
 
     @property
-    def fixed(self) -> np.ndarray:
+    def fixed(self) -> IndexArray:
         """(f,) int64 fixed vertices."""
         return self._deformer.fixed
 

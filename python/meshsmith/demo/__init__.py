@@ -12,9 +12,10 @@ from .parametrization import stage_parametrization
 from .pipeline import STAGES, run_demo
 from .render import stage_pictures
 from .repair import stage_clean
+from .smoothing import stage_smoothing
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
 
 __all__ = ["run_demo", "STAGES", "DemoContext", "Section", "builtin_shape", "html_report", "stage_clean", "stage_input",
            "stage_pictures", "stage_curvature", "stage_tessellation", "stage_crust", "stage_decimation",
-           "stage_parametrization"]
+           "stage_parametrization", "stage_smoothing"]

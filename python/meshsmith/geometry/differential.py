@@ -74,7 +74,7 @@ def vertex_normals(V: ArrayLike, F: ArrayLike, *, weighting: str = "angle") -> F
     return _geometry.vertex_normals(V, F, weighting)
 
 
-def cotan_laplacian(V: ArrayLike, F: ArrayLike) -> scipy.sparse.csc_matrix:
+def cotan_laplacian(V: ArrayLike, F: ArrayLike, *, intrinsic_delaunay: bool = False) -> scipy.sparse.csc_matrix:
     """Cotangent Laplacian (§3.0.2 cot-weights), libigl's sign: negative semi-definite.
 
     ``L[i, j] = (cot(alpha_ij) + cot(beta_ij)) / 2`` for every edge ij (one cotangent on a
@@ -86,9 +86,20 @@ def cotan_laplacian(V: ArrayLike, F: ArrayLike) -> scipy.sparse.csc_matrix:
     cotangents of a degenerate triangle (twice its area <= 8 eps (longest edge)**2) are set to
     zero instead of +-inf, so such a triangle contributes nothing.
 
-    Raises InputError for bad (V, F).
+    intrinsic_delaunay: the cot weights of the intrinsic Delaunay triangulation instead (§3.0.2
+    "Delaunay cot-weights"; Bobenko & Springborn 2007): every edge with a negative weight
+    (alpha + beta > pi) is flipped intrinsically, on edge lengths only, until the triangulation
+    is locally Delaunay; no vertex moves, but an entry may join two vertices that share no mesh
+    edge. Every weight of an interior edge is then >= 0 (weights within 1e-12 (1 + |cot alpha| +
+    |cot beta|) below zero, co-circular quads, are set to 0); a boundary edge keeps its single
+    cotangent, negative where its opposite angle is obtuse (no flip can change it). Equal to
+    ``igl.intrinsic_delaunay_cotmatrix`` to round-off, and to the plain cotan Laplacian on a mesh
+    that is already Delaunay. Needs an edge-manifold, consistently oriented mesh.
+
+    Raises InputError for bad (V, F), or with intrinsic_delaunay for an edge with more than two
+    faces or two faces that traverse an edge in the same direction.
     """
-    return _csc(_geometry.cotan_laplacian(V, F))
+    return _csc(_geometry.cotan_laplacian(V, F, bool(intrinsic_delaunay)))
 
 
 def uniform_laplacian(first: ArrayLike, second: ArrayLike | int | None = None, *, normalized: bool = False) -> scipy.sparse.csc_matrix:

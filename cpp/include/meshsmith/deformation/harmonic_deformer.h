@@ -10,6 +10,7 @@
 /// that order 1 is the Laplace equation ΔX = 0, order 2 the bi-Laplace equation Δ²X = 0 (a thin
 /// plate, C¹ at the constraints) and order 3 Δ³X = 0 at the free vertices.
 #include <meshsmith/core/types.h>
+#include <meshsmith/deformation/multiresolution.h>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -134,8 +135,7 @@ class HarmonicDeformer {
   Eigen::MatrixXd control_response_;            ///< #free×4: free displacement per unit control move
   bool details_ = false;
   VertexMatrix base_;                           ///< #V×3 smooth base (details only)
-  Eigen::MatrixXd detail_coefficients_;         ///< #V×3 (tangent, bitangent, normal) coefficients
-  Eigen::VectorXi frame_neighbour_;             ///< #V: the neighbour that fixes each tangent (−1: none)
+  DetailFrames details_frames_;                 ///< the details over base_ (free vertices only)
 };
 
 }  // namespace meshsmith::deformation

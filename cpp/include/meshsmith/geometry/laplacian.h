@@ -25,6 +25,24 @@ namespace meshsmith::geometry {
 /// \throw InputError if V or F is empty, V holds NaN/Inf or F indexes outside [0, #V).
 Eigen::SparseMatrix<double> cotan_laplacian(const VertexRef& V, const FaceRef& F);
 
+/// Intrinsic Delaunay cotangent Laplacian (§3.0.2 "Delaunay cot-weights"; Bobenko & Springborn
+/// 2007, Fisher et al. 2007): the cotangent Laplacian of the intrinsic Delaunay triangulation of
+/// the mesh's metric. Edges whose cot weight is negative (α_ij + β_ij > π) are flipped
+/// intrinsically, on edge lengths only (the vertices and the surface's shape do not change), until
+/// every edge is locally Delaunay; the Laplacian is assembled from the flipped triangulation, so
+/// an intrinsic edge may join two vertices that share no mesh edge. Every off-diagonal entry is
+/// ≥ 0 (weights within 1e-12·(1 + |cot α| + |cot β|) below zero, co-circular quads, are taken as
+/// 0), symmetric, negative semi-definite; equals cotan_laplacian on a mesh that is already
+/// Delaunay and libigl's intrinsic_delaunay_cotmatrix to round-off.
+/// V: #V×3, F: #F×3. Returns #V×#V, the same pattern conventions as cotan_laplacian. Degenerate
+/// triangles (a zero-length edge) contribute nothing and their edges are not flipped.
+/// \pre the mesh is edge-manifold and consistently oriented (every interior edge has two faces
+///      that traverse it in opposite directions).
+/// 	hrow InputError as cotan_laplacian, or naming an edge with more than two faces or an
+///        inconsistently oriented one; SolverError if the flips do not terminate (never seen).
+/// Complexity: O(#F + flips); a flip is O(1).
+Eigen::SparseMatrix<double> intrinsic_delaunay_cotan_laplacian(const VertexRef& V, const FaceRef& F);
+
 /// Graph (uniform-weight) Laplacian (§3.0.2 uniform weights): L_ij = 1 for every edge ij,
 /// L_ii = −deg(i). With `normalized` the rows are divided by the vertex degree (L_ij = 1/|N1(i)|,
 /// L_ii = −1: the umbrella operator; not symmetric). A vertex used by no face has a zero row and
