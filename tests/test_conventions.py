@@ -27,6 +27,11 @@ def disk():
     return datasets.disk(4, 16)
 
 
+def sphere_with_hole():
+    V, F = datasets.icosphere(1)
+    return V, F[1:]
+
+
 def sphere_with_unused_vertex():
     V, F = datasets.icosphere(1)
     return np.vstack([V, [[5.0, 5.0, 5.0]]]), F[:, ::-1]   # inward faces, one vertex no face uses
@@ -164,6 +169,12 @@ RESULTS = {
                                    ["V", "F", "vertex_map"]),
     "repair.orient_faces": (lambda tmp: repair.orient_faces(*sphere_with_unused_vertex()), ["F", "flipped"]),
     "repair.clean": (lambda tmp: repair.clean(*sphere_with_unused_vertex()), ["V", "F", "report"]),
+    "repair.remove_needles_and_caps": (lambda tmp: repair.remove_needles_and_caps(*datasets.icosphere(1)), ["V", "F"]),
+    "repair.stitch_boundaries": (lambda tmp: repair.stitch_boundaries(*sphere_with_hole(), tolerance=1e-3), ["V", "F"]),
+    "repair.fill_holes": (lambda tmp: repair.fill_holes(*sphere_with_hole()), ["V", "F", "report"]),
+    "repair.fill_holes report": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report, ["patches", "unfilled"]),
+    "repair.fill_holes patch": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report.patches[0],
+                                ["loop", "faces", "vertices"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
 }

@@ -180,6 +180,8 @@ VALID = {
     "parametrization.uv_from_angles": {"angles": _disk_angles(), "n_vertices": 25,
                                        "pinned": np.array([DISK_F[0, 0], DISK_F[0, 1]]),
                                        "pinned_uv": np.array([[0.0, 0.0], [1.0, 0.0]])},
+    "repair.fill_holes": {"F": SPHERE_F[1:], "holes": [0]},
+    "repair.stitch_boundaries": {"F": SPHERE_F[1:], "tolerance": 1e-3},
     "repair.ReferencedMesh.to_input_rows": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                             "values": SPHERE_V[:, :2].copy()},
     "repair.ReferencedMesh.to_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),

@@ -18,7 +18,7 @@ from meshsmith.demo import STAGES
 
 COUNTS = ["merged_vertices", "degenerate_faces", "zero_area_faces", "duplicate_faces", "non_manifold_vertices",
           "non_manifold_edges", "vertex_copies", "small_components", "small_component_faces", "flipped_faces",
-          "non_orientable_components", "unreferenced_vertices"]
+          "non_orientable_components", "needle_collapses", "needle_faces", "cap_flips", "unreferenced_vertices"]
 
 
 def assert_clean(V, F, report, V_in, F_in, *, merge_tolerance=0.0):

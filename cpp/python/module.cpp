@@ -35,6 +35,9 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_parametrization_abf(parametrization);
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
+  meshsmith::python::bind_repair_holes(repair);
+  meshsmith::python::bind_repair_intersections(repair);
+  meshsmith::python::bind_repair_degenerate(repair);
   auto smoothing = m.def_submodule("smoothing");
   meshsmith::python::bind_smoothing(smoothing);
   auto registration = m.def_submodule("registration");

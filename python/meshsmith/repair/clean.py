@@ -22,6 +22,7 @@ from .._core import InputError
 from .._results import Unpackable
 from .._typing import ArrayLike
 from ..points import KdTree
+from .degenerate import remove_needles_and_caps
 from .orient import orient_faces
 from .unreferenced import remove_unreferenced
 
@@ -40,6 +41,9 @@ CLEAN_COUNTS = {
     "small_component_faces": "faces of small components removed",
     "flipped_faces": "faces flipped to orient",
     "non_orientable_components": "non-orientable components (left as they are)",
+    "needle_collapses": "needles collapsed (one vertex each)",
+    "needle_faces": "faces removed by needle collapses",
+    "cap_flips": "caps flipped",
     "unreferenced_vertices": "unreferenced vertices removed",
 }
 
@@ -54,15 +58,17 @@ class CleanReport(Unpackable):
     copies), non_manifold_vertices and non_manifold_edges (found before the split that fixed them),
     vertex_copies (vertices the split added), small_components and small_component_faces,
     flipped_faces, non_orientable_components (could not be oriented consistently; left as the
-    walk made them), unreferenced_vertices (used by no input face, or by none once faces were
-    removed). So ``len(V_out) == len(V_in) - merged_vertices - unreferenced_vertices +
-    vertex_copies`` and ``len(F_out) == len(F_in) - degenerate_faces - zero_area_faces -
-    duplicate_faces - small_component_faces``.
+    walk made them), needle_collapses, needle_faces and cap_flips (with ``needles_and_caps``:
+    see :func:`meshsmith.repair.remove_needles_and_caps`), unreferenced_vertices (used by no
+    input face, or by none once faces were removed). So ``len(V_out) == len(V_in) -
+    merged_vertices - unreferenced_vertices + vertex_copies - needle_collapses`` and
+    ``len(F_out) == len(F_in) - degenerate_faces - zero_area_faces - duplicate_faces -
+    small_component_faces - needle_faces``.
 
     Maps: vertex_map (n_out,) int64, the input vertex of each output vertex (the
     representative of a merged group: its lowest index; for a split copy: the vertex it copies),
     so ``V_out == V_in[vertex_map]``; face_map (m_out,) int64, the input face of each output
-    face; flipped (k,) int64, the output faces that are reversed relative to their input face.
+    face (whose corners changed where a needle collapse or a cap flip passed); flipped (k,) int64, the output faces that are reversed relative to their input face.
     """
 
     merged_vertices: int
@@ -76,6 +82,9 @@ class CleanReport(Unpackable):
     small_component_faces: int
     flipped_faces: int
     non_orientable_components: int
+    needle_collapses: int
+    needle_faces: int
+    cap_flips: int
     unreferenced_vertices: int
     vertex_map: np.ndarray
     face_map: np.ndarray
@@ -148,7 +157,8 @@ def merge_close_vertices(V: ArrayLike, *, tolerance: float = 0.0) -> tuple[np.nd
 
 
 def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, remove_degenerate: bool = True,
-          split_non_manifold: bool = True, orient: bool = True, min_component_faces: int = 0) -> CleanMesh:
+          split_non_manifold: bool = True, orient: bool = True, min_component_faces: int = 0,
+          needles_and_caps: bool = False) -> CleanMesh:
     """Clean a triangle mesh and say exactly what changed (§2.4).
 
     In this order, each step optional:
@@ -162,7 +172,10 @@ def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, re
        faces around non-manifold edges without moving a point;
     4. `min_component_faces`: remove the connected components with fewer faces;
     5. `orient`: orient each component consistently, closed ones outward (:func:`orient_faces`);
-    6. remove the vertices no face uses (always; unreferenced vertices of the input included).
+    6. `needles_and_caps` (off by default): collapse needles and flip caps with the defaults of
+       :func:`meshsmith.repair.remove_needles_and_caps` (topology kept; skipped when a component
+       is non-orientable or orientation is off);
+    7. remove the vertices no face uses (always; unreferenced vertices of the input included).
     With the default options the output is manifold, without degenerate, duplicate or
     unreferenced elements, consistently oriented and closed components have positive volume
     (except non-orientable components, counted in the report). Removing a zero-area face
@@ -222,6 +235,15 @@ def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, re
         F1, flipped = oriented.F, oriented.flipped
         counts["flipped_faces"] = len(flipped)
         counts["non_orientable_components"] = oriented.non_orientable_components
+
+    if needles_and_caps and orient and len(F1) and not counts["non_orientable_components"]:
+        fixed = remove_needles_and_caps(V1, F1)
+        if fixed.collapses or fixed.flips:
+            counts.update(needle_collapses=fixed.collapses, needle_faces=len(F1) - len(fixed.F), cap_flips=fixed.flips)
+            was_flipped = np.zeros(len(F1), dtype=bool)
+            was_flipped[flipped] = True
+            flipped = np.flatnonzero(was_flipped[fixed.face_map]).astype(np.int64)
+            V1, F1, vertex_map, face_map = fixed.V, fixed.F, vertex_map[fixed.vertex_map], face_map[fixed.face_map]
 
     if len(F1):
         V1, F1, used = remove_unreferenced(V1, F1)
