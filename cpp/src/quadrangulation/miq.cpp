@@ -425,8 +425,9 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
     for (Eigen::Index f = 0; f < m; ++f)
       for (int k = 0; k < 3; ++k) vertex_faces[fill[F(f, k)]++] = static_cast<int>(f);
   }
-  // Each round stiffens the faces flipped in the best map so far and the faces around their
-  // corners, and keeps the re-solved map when it has no more flips.
+  // Each round stiffens the faces flipped in the best map so far (× stiffening) and the faces
+  // around their corners (× √stiffening). (A region grown by one ring per round did worse on
+  // pmp-bunny: 16 flips left instead of 6.)
   for (int round = 0; round < options.repair_iterations && result.flipped_after > 0; ++round) {
     progress.report(0.8 + 0.2 * round / std::max(1, options.repair_iterations), "miq: repair");
     std::vector<char> stiffen(m, 0);
