@@ -5,12 +5,13 @@ parametrization.cut_to_disk's).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray
 from ..parametrization.cut import CutMesh, cut_on_input_vertices
-from ..repair.unreferenced import on_referenced_vertices
+from ..repair.unreferenced import ReferencedMesh, on_referenced_vertices
 from .cross_field import FieldLike, Singularities, field_angles
 
 __all__ = ["FieldCut", "cut_graph"]
@@ -33,7 +34,7 @@ class FieldCut(Unpackable):
     seam_jumps: IndexArray
 
 
-def field_cut(out: dict, mesh, V: ArrayLike) -> FieldCut:  # type: ignore[no-untyped-def]
+def field_cut(out: dict[str, Any], mesh: ReferencedMesh, V: ArrayLike) -> FieldCut:
     """The binding's cut dictionary as a FieldCut on the input's vertex numbering."""
     cut = cut_on_input_vertices(CutMesh(out["V"], out["F"], out["vertex_origin"], out["seam_edges"]), mesh, V)
     vertices = mesh.vertex_map[out["singular_vertices"]] if mesh.removed else out["singular_vertices"]
