@@ -14,6 +14,7 @@ from . import (
                io,
                parametrization,
                points,
+               quadrangulation,
                render,
                repair,
                tessellation,
@@ -23,6 +24,6 @@ from ._core import Cancelled, InputError, SolverError
 
 __version__ = core.version()
 
-__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
+__all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization", "quadrangulation",
            "datasets",
            "__version__"]
