@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import meshsmith
-from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, render, repair,
-                       tessellation,
+from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, quadrangulation, render,
+                       repair, tessellation,
                        topology)
 from meshsmith._results import Unpackable
 
@@ -25,6 +25,12 @@ CHAPTERS = sorted(info.name for info in pkgutil.iter_modules(meshsmith.__path__)
 
 def disk():
     return datasets.disk(4, 16)
+
+
+def square_grid_map():
+    """The unit square with UV = 3·(x, y) per corner: a seamless map whose grid is 3×3 quads."""
+    V, F = datasets.grid(4, 4)
+    return V, F, 3 * V[F][:, :, :2]
 
 
 def sphere_with_unused_vertex():
@@ -158,6 +164,13 @@ RESULTS = {
     "repair.clean": (lambda tmp: repair.clean(*sphere_with_unused_vertex()), ["V", "F", "report"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
+    "quadrangulation.extract_quads": (lambda tmp: quadrangulation.extract_quads(*square_grid_map()), ["V", "Q"]),
+    "quadrangulation.extract_quads report": (
+        lambda tmp: quadrangulation.extract_quads(*square_grid_map()).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadExtractionReport)]),
+    "quadrangulation.quad_quality": (
+        lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
+        [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),
 }
 
 
