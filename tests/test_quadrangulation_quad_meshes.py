@@ -1,6 +1,8 @@
 """Quad meshes as first-class data (issue 15 part 5): read and written with their quads in
 OBJ/OFF/PLY, rendered with their edges (not the triangulation's diagonals), summarised by
 topology.info with the quads' own face and edge counts."""
+import json
+
 import numpy as np
 import pytest
 
@@ -106,3 +108,23 @@ def test_render_draws_quad_edges_and_not_the_diagonals():
     assert (checker != plain).any()
     with pytest.raises(meshsmith.InputError, match="uv has shape"):
         render.render(V, Q, uv=uv[:, :3], **options)
+
+
+def test_cli_info_and_render_keep_quads(tmp_path, capsys):
+    from meshsmith import cli
+    V, Q = quad_grid(4)
+    path = tmp_path / "quads.obj"
+    io.write_mesh(path, V, Q)
+    assert cli.main(["info", str(path), "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert (figures["n_faces"], figures["n_edges"], figures["euler_characteristic"]) == (16, 40, 1)
+    picture = tmp_path / "quads.png"
+    assert cli.main(["render", str(path), "-o", str(picture), "--scalar", "valence"]) == 0
+    assert picture.stat().st_size > 0
+    capsys.readouterr()
+    # a mixed mesh (a quad and a triangle) stays polygons
+    mixed = tmp_path / "mixed.off"
+    io.write_mesh(mixed, np.vstack([V[:4], [[2.0, 0.0, 0.0]]]), Polygons.from_list([[0, 1, 2, 3], [1, 4, 2]]))
+    assert cli.main(["info", str(mixed), "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert (figures["n_faces"], figures["n_edges"]) == (2, 6)
