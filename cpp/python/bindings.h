@@ -20,5 +20,6 @@ void bind_decimation_progressive(pybind11::module_& m);
 void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls both on "parametrization"
 void bind_parametrization_abf(pybind11::module_& m);
 void bind_repair(pybind11::module_& m);
+void bind_quadrangulation(pybind11::module_& m);
 void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
 }  // namespace meshsmith::python

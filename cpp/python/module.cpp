@@ -36,5 +36,6 @@ PYBIND11_MODULE(_core, m) {
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
   auto quadrangulation = m.def_submodule("quadrangulation");
+  meshsmith::python::bind_quadrangulation(quadrangulation);
   meshsmith::python::bind_quadrangulation_extraction(quadrangulation);
 }
