@@ -168,6 +168,12 @@ RESULTS = {
     "quadrangulation.extract_quads report": (
         lambda tmp: quadrangulation.extract_quads(*square_grid_map()).report,
         [field.name for field in dataclasses.fields(quadrangulation.QuadExtractionReport)]),
+    "quadrangulation.quadrangulate": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60),
+        ["V", "Q", "report"]),
+    "quadrangulation.quadrangulate report": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadrangulationReport)]),
     "quadrangulation.quad_quality": (
         lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
         [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),

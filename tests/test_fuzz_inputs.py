@@ -187,6 +187,7 @@ VALID = {
     "repair.ReferencedMesh.from_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                                  "indices": np.array([0, 6, 42])},
     "quadrangulation.extract_quads": {"UV": 4 * SPHERE_V[SPHERE_F][:, :, :2]},
+    "quadrangulation.quadrangulate": {"target_faces": 40},
     "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
                                      "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
     "datasets.icosphere": {"subdivisions": 1},

@@ -217,25 +217,56 @@ def test_cube_gives_6n2_quads_and_eight_valence_three_corners(n, t, bump):
 
 # --- degenerate parametrizations: valid, reported ------------------------------------------------
 
+def centre_edge(V, F):
+    """(the vertex nearest the square's centre, a neighbour of it)."""
+    w = int(np.argmin(np.linalg.norm(V[:, :2] - 0.5, axis=1)))
+    face = F[np.flatnonzero((F == w).any(1))[0]]
+    return w, int(face[(list(face).index(w) + 1) % 3])
+
+
 def signed_areas(UV):
     d1, d2 = UV[:, 1] - UV[:, 0], UV[:, 2] - UV[:, 0]
     return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
 
 
 @pytest.mark.parametrize("overshoot", [1.5, 3.0])
-def test_a_fold_is_reported_and_the_rest_stays_valid(overshoot):
+def test_a_fold_at_a_free_vertex_is_untangled(overshoot):
     V, F, UV = square(5, 9, 0.3)
     UV = UV.copy()
-    w = F[len(F) // 2, 0]                        # an interior vertex, moved past its neighbour
-    target = F[len(F) // 2, 1]
+    w, target = centre_edge(V, F)                # an interior vertex, moved past its neighbour
     at_w, at_target = F == w, F == target
     UV[at_w] = UV[at_w][0] + overshoot * (UV[at_target][0] - UV[at_w][0])
+    assert (signed_areas(UV) < 0).sum() >= 1
+    result = extract_quads(V, F, UV)
+    report = result.report
+    assert report.untangled_vertices >= 1 and report.flipped_triangles == 0
+    assert report.complete and len(result.Q) == 25
+    assert_valid_quad_mesh(result.V, result.Q)
+
+
+def test_a_fold_that_cannot_be_untangled_is_reported_and_the_rest_stays_valid():
+    V, F, UV = square(5, 9, 0.3)
+    UV = UV.copy()
+    corner = int(np.argmin(V[:, 0] + V[:, 1]))   # the boundary corner (0, 0): not free to move
+    UV[F == corner] = [1.7, 1.3]
     flipped = int((signed_areas(UV) < 0).sum())
     assert flipped >= 1
     result = extract_quads(V, F, UV)
     report = result.report
-    assert report.flipped_triangles == flipped and not report.complete
-    assert report.squares_inconsistent + report.quads_non_manifold >= 1 and 0 < len(result.Q) < 25
+    assert report.flipped_triangles == flipped and report.untangled_vertices == 0 and not report.complete
+    assert report.squares_inconsistent + report.squares_cut_by_boundary >= 1 and 0 < len(result.Q) < 25
+    assert_valid_quad_mesh(result.V, result.Q)
+
+
+def test_zero_area_triangles_are_crossed():
+    V, F, UV = square(5, 9, 0.3)
+    UV = UV.copy()
+    w, target = centre_edge(V, F)                # an interior vertex collapsed onto its neighbour
+    UV[F == w] = UV[F == target][0]
+    assert (signed_areas(UV) == 0).sum() == 2 and (signed_areas(UV) < 0).sum() == 0
+    result = extract_quads(V, F, UV)
+    assert result.report.degenerate_triangles == 2
+    assert result.report.complete and len(result.Q) == 25
     assert_valid_quad_mesh(result.V, result.Q)
 
 

@@ -29,6 +29,7 @@ py::dict report_to_dict(const QuadExtractionReport& r) {
   d["degenerate_triangles"] = r.degenerate_triangles;
   d["non_seamless_edges"] = r.non_seamless_edges;
   d["non_integer_singularities"] = r.non_integer_singularities;
+  d["untangled_vertices"] = r.untangled_vertices;
   d["singular_vertices"] = r.singular_vertices;
   d["singular_indices"] = r.singular_indices;
   d["squares_cut_by_boundary"] = r.squares_cut_by_boundary;

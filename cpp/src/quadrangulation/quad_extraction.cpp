@@ -19,8 +19,10 @@
 //     (so both sides of it lie in S). A breadth-first walk over the glue links, composing the
 //     transitions, gives each square's preimage: one class of cells, with the transform from its root
 //     chart into each member's chart (two paths giving different transforms: inconsistent). A cell
-//     whose square meets a boundary edge is cut by the boundary; a link to a missing cell (flipped or
-//     zero-area triangle, seam mismatch) makes the class inconsistent. Either leaves the square out.
+//     whose square meets a boundary edge is cut by the boundary; a link to a missing cell (flipped
+//     triangle, seam mismatch) makes the class inconsistent. Either leaves the square out. Zero-area
+//     (u, v) triangles (MIQ collapses some next to singularities) are crossed: the walk goes on to
+//     the faces beyond them, and grid points on them get one node.
 //  5. Corners. Each square's four corners (counter-clockwise in its root chart) are located, exactly,
 //     in a member cell's closed triangle: inside a face, on an edge (keyed by the edge's smaller side
 //     and the point in that side's chart) or at a vertex, so a grid node seen from several charts gets
@@ -155,7 +157,8 @@ struct Cell {
 };
 
 /// Key of a grid node: at a vertex (kind 0, id = vertex), on an edge (kind 1, id = the edge's smaller
-/// side 3f + k, point in face f's chart) or inside a face (kind 2, id = face).
+/// side 3f + k, point in face f's chart), inside a face (kind 2, id = face) or on a zero-area (u, v)
+/// triangle (kind 3, id = that face, point in its chart).
 using NodeKey = std::tuple<int, int, Int, Int>;
 
 }  // namespace
@@ -236,6 +239,7 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
   const double unit = std::ldexp(1.0, shift);
   std::vector<Point> U(n_sides);
   {
+    std::vector<char> movable(V.rows(), 0);
     std::vector<std::vector<int>> corners_of(V.rows());
     for (int c = 0; c < n_sides; ++c) corners_of[F(c / 3, c % 3)].push_back(c);
     std::vector<Rigid> to_corner(n_sides);
@@ -299,9 +303,67 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
         else ++report.non_integer_singularities;
       }
       for (const int c : cs) U[c] = apply(to_corner[c], H, shift);
+      movable[w] = interior && !loop && !mismatch;
+    }
+
+    // Untangling: a free vertex of a clockwise triangle moves to the mean of its ring (read in its
+    // home chart) when that leaves fewer non-positive triangles around it; a few rounds.
+    auto area_sign = [&](int f) { return orient(U[3 * f], U[3 * f + 1], U[3 * f + 2]); };
+    for (int round = 0; round < 8; ++round) {
+      std::vector<int> candidates;
+      for (Eigen::Index f = 0; f < m; ++f)
+        if (area_sign(static_cast<int>(f)) < 0)
+          for (int k = 0; k < 3; ++k)
+            if (movable[F(f, k)]) candidates.push_back(F(f, k));
+      if (candidates.empty()) break;
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      bool moved = false;
+      for (const int w : candidates) {
+        const std::vector<int>& cs = corners_of[w];
+        auto bad_around = [&] {
+          int bad = 0;
+          for (const int c : cs) bad += area_sign(c / 3) <= 0;
+          return bad;
+        };
+        const int before = bad_around();
+        Wide sx = 0, sy = 0;
+        for (const int c : cs) {
+          const Rigid back = inverse(to_corner[c]);
+          for (const int o : {corner(c / 3, c % 3 + 1), corner(c / 3, c % 3 + 2)}) {
+            const Point p = apply(back, U[o], shift);
+            sx += p.x;
+            sy += p.y;
+          }
+        }
+        const Wide count = 2 * static_cast<Wide>(cs.size());
+        const Point H{static_cast<Int>(sx / count), static_cast<Int>(sy / count)};
+        std::vector<Point> old(cs.size());
+        for (std::size_t i = 0; i < cs.size(); ++i) old[i] = U[cs[i]], U[cs[i]] = apply(to_corner[cs[i]], H, shift);
+        if (bad_around() < before) {
+          moved = true;
+          ++report.untangled_vertices;
+        } else {
+          for (std::size_t i = 0; i < cs.size(); ++i) U[cs[i]] = old[i];
+        }
+      }
+      if (!moved) break;
     }
   }
   progress.report(0.2, "extract quads: cells");
+
+  // Vertices joined by an edge of zero length in (u, v) are one grid point: one node if it is on the grid.
+  std::vector<int> same_point(V.rows());
+  for (Eigen::Index v = 0; v < V.rows(); ++v) same_point[v] = static_cast<int>(v);
+  auto representative = [&](int v) {
+    while (same_point[v] != v) v = same_point[v] = same_point[same_point[v]];
+    return v;
+  };
+  for (int c = 0; c < n_sides; ++c)
+    if (U[c] == U[corner(c / 3, c % 3 + 1)]) {
+      const int a = representative(F(c / 3, c % 3)), b = representative(F(c / 3, (c % 3 + 1) % 3));
+      same_point[std::max(a, b)] = std::min(a, b);
+    }
 
   // 3. Cells: (face, square) with overlapping interiors, sorted by (face, i, j).
   std::vector<Cell> cells;
@@ -336,25 +398,50 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
     return (it != end && it->i == i && it->j == j) ? static_cast<int>(it - cells.begin()) : -1;
   };
 
-  // 4. Glue links: cell → (neighbour cell, side crossed).
+  // 4. Glue links: cell → (neighbour cell, transform from this cell's chart to the neighbour's).
+  // A zero-area triangle in (u, v) is a segment (or a point): a square crossing into one passes
+  // through it to the faces beyond, so the walk continues across such faces (a flipped one breaks it).
   const int n_cells = static_cast<int>(cells.size());
-  std::vector<std::array<std::pair<int, int>, 3>> links(n_cells);
+  std::vector<std::vector<std::pair<int, Rigid>>> links(n_cells);
+  std::vector<std::pair<int, Rigid>> through;  // (side entered, chart transform so far)
+  std::vector<int> crossed_faces;
   for (int c = 0; c < n_cells; ++c) {
     Cell& cell = cells[c];
     const int f = cell.face;
     const auto sq = square_corners(cell.i, cell.j, shift);
     for (int k = 0; k < 3; ++k) {
-      links[c][k] = {-1, -1};
       const int s = 3 * f + k;
       if (!segment_meets_open_square(U[s], U[corner(f, k + 1)], sq, sq[0].x, sq[2].x, sq[0].y, sq[2].y)) continue;
       if (twin[s] < 0) { cell.cut_by_boundary = true; continue; }
-      const Rigid& T = transition[s];
-      // The square's doubled centre maps to the neighbour square's doubled centre.
-      const Point centre = rotate({2 * cell.i + 1, 2 * cell.j + 1}, T.r);
-      const Int ci = centre.x + 2 * T.tx, cj = centre.y + 2 * T.ty;
-      const int other = find_cell(twin[s] / 3, (ci - 1) / 2, (cj - 1) / 2);
-      if (other < 0) cell.broken = true;
-      else links[c][k] = {other, s};
+      through.assign(1, {s, transition[s]});
+      crossed_faces.clear();
+      for (std::size_t q = 0; q < through.size(); ++q) {
+        const auto [side, T] = through[q];
+        const int g = twin[side] / 3;
+        // The square's doubled centre maps to the neighbour square's doubled centre.
+        const Point centre = rotate({2 * cell.i + 1, 2 * cell.j + 1}, T.r);
+        const Int ci = (centre.x + 2 * T.tx - 1) / 2, cj = (centre.y + 2 * T.ty - 1) / 2;
+        if (face_sign[g] > 0) {
+          const int other = find_cell(g, ci, cj);
+          if (other < 0) cell.broken = true;
+          else links[c].push_back({other, T});
+          continue;
+        }
+        if (face_sign[g] < 0 || std::find(crossed_faces.begin(), crossed_faces.end(), g) != crossed_faces.end() ||
+            crossed_faces.size() >= 64) {
+          cell.broken = true;
+          continue;
+        }
+        crossed_faces.push_back(g);
+        const auto sg = square_corners(ci, cj, shift);
+        for (int k2 = 0; k2 < 3; ++k2) {
+          const int s2 = 3 * g + k2;
+          if (s2 == twin[side]) continue;
+          if (!segment_meets_open_square(U[s2], U[corner(g, k2 + 1)], sg, sg[0].x, sg[2].x, sg[0].y, sg[2].y)) continue;
+          if (twin[s2] < 0) { cell.cut_by_boundary = true; continue; }
+          through.push_back({s2, compose(transition[s2], T)});
+        }
+      }
     }
   }
   progress.report(0.6, "extract quads: squares");
@@ -384,16 +471,24 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
     if (zeros >= 2) {
       // corner k is shared by sides k-1 and k: the one non-zero side is k+1.
       const int k = o[1] != 0 ? 0 : (o[2] != 0 ? 1 : 2);
-      key = {0, F(f, k), 0, 0};
+      key = {0, representative(F(f, k)), 0, 0};
     } else if (zeros == 1) {
       const int k = o[0] == 0 ? 0 : (o[1] == 0 ? 1 : 2);
       int s = 3 * f + k;
-      if (twin[s] >= 0 && twin[s] < s) {
+      if (twin[s] >= 0 && face_sign[twin[s] / 3] == 0) {
+        // On the edge of a zero-area (u, v) triangle: the same (u, v) point seen from the triangle's
+        // other sides is the same node, so it is keyed in that triangle.
         key_point = apply(transition[s], p, shift);
-        s = twin[s];
-        key_face = s / 3;
+        key_face = twin[s] / 3;
+        key = {3, key_face, key_point.x, key_point.y};
+      } else {
+        if (twin[s] >= 0 && twin[s] < s) {
+          key_point = apply(transition[s], p, shift);
+          s = twin[s];
+          key_face = s / 3;
+        }
+        key = {1, s, key_point.x, key_point.y};
       }
-      key = {1, s, key_point.x, key_point.y};
     } else {
       key = {2, f, p.x, p.y};
     }
@@ -431,9 +526,8 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
       const int c = members[q];
       consistent &= !cells[c].broken;
       cut |= cells[c].cut_by_boundary;
-      for (const auto& [other, s] : links[c]) {
-        if (other < 0) continue;
-        const Rigid T = compose(transition[s], from_root[c]);
+      for (const auto& [other, step] : links[c]) {
+        const Rigid T = compose(step, from_root[c]);
         if (class_of[other] < 0) {
           class_of[other] = id;
           from_root[other] = T;

@@ -19,7 +19,9 @@ class QuadExtractionReport(Unpackable):
     flipped_triangles, degenerate_triangles: faces whose (u, v) triangle is clockwise / has zero
     area. non_seamless_edges: interior edges whose two sides are not related by a quarter-turn
     rotation and an integer translation. non_integer_singularities: singular vertices not on an
-    integer point. singular_vertices (s,) int64 and singular_indices (s,) int64: the interior
+    integer point. untangled_vertices: free vertices of clockwise triangles that were moved, in
+    (u, v), to the mean of their ring because that left fewer bad triangles (flipped_triangles
+    counts those left). singular_vertices (s,) int64 and singular_indices (s,) int64: the interior
     vertices of non-zero index, in quarter turns (+1 for valence 3, -1 for valence 5).
     squares_cut_by_boundary: unit squares that a boundary edge crosses (left out);
     squares_inconsistent: squares whose pieces do not fit together (left out); quads_non_manifold:
@@ -32,6 +34,7 @@ class QuadExtractionReport(Unpackable):
     degenerate_triangles: int
     non_seamless_edges: int
     non_integer_singularities: int
+    untangled_vertices: int
     singular_vertices: IndexArray
     singular_indices: IndexArray
     squares_cut_by_boundary: int

@@ -21,12 +21,14 @@ using CornerUVRef = Eigen::Ref<const CornerUVMatrix>;
 /// What extract_quads found in the parametrization and what it had to leave out. A clean
 /// extraction has every count of left-out squares at zero and euler_output == euler_input.
 struct QuadExtractionReport {
-  Eigen::Index flipped_triangles = 0;      ///< faces whose (u, v) triangle is clockwise
+  Eigen::Index flipped_triangles = 0;      ///< faces whose (u, v) triangle is clockwise (after untangling)
   Eigen::Index degenerate_triangles = 0;   ///< faces whose (u, v) triangle has zero area
   Eigen::Index non_seamless_edges = 0;     ///< interior edges whose two sides are not related by
                                            ///< a quarter-turn rotation and an integer translation
                                            ///< (tolerance 1e-6 × max(1, |uv|))
   Eigen::Index non_integer_singularities = 0;  ///< singular vertices whose fixed point is not an integer point
+  Eigen::Index untangled_vertices = 0;      ///< free vertices of clockwise triangles moved (in (u, v)) to
+                                           ///< the mean of their ring, which left fewer bad triangles
   std::vector<int> singular_vertices;      ///< vertices with a non-zero index, ascending
   std::vector<int> singular_indices;       ///< their indices in quarter turns (+1: valence 3, −1: valence 5)
   Eigen::Index squares_cut_by_boundary = 0;  ///< unit squares crossed by a boundary edge (boundary
