@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import meshsmith
-from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, quadrangulation, render,
-                       repair, tessellation,
+from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, quadrangulation, render, repair,
+                       tessellation,
                        topology)
 from meshsmith._results import Unpackable
 
@@ -158,6 +158,17 @@ RESULTS = {
                             ["uv", "angles", "optimal_angles", "iterations", "residual", "residual_history"]),
     "parametrization.parametrize": (lambda tmp: parametrization.parametrize(*datasets.torus(n_major=16, n_minor=8)),
                                     ["V", "F", "uv", "cut", "method", "distortion", "bijective"]),
+    "quadrangulation.cross_field": (lambda tmp: quadrangulation.cross_field(*datasets.icosphere(1)),
+                                    ["theta", "directions"]),
+    "quadrangulation.singularities": (
+        lambda tmp: quadrangulation.singularities(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["vertices", "indices"]),
+    "quadrangulation.cut_graph": (
+        lambda tmp: quadrangulation.cut_graph(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["cut", "singularities", "combed_theta", "seam_jumps"]),
+    "quadrangulation.miq": (
+        lambda tmp: quadrangulation.miq(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["UV", "flipped_before", "flipped_after"]),
     "repair.remove_unreferenced": (lambda tmp: repair.remove_unreferenced(*sphere_with_unused_vertex()),
                                    ["V", "F", "vertex_map"]),
     "repair.orient_faces": (lambda tmp: repair.orient_faces(*sphere_with_unused_vertex()), ["F", "flipped"]),

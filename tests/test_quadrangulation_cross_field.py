@@ -44,14 +44,16 @@ def test_sphere_indices_sum_to_eight_quarter_turns(align):
 
 def test_torus_curvature_field_follows_the_parallels_and_has_no_singularity():
     V, F = datasets.torus(n_major=48, n_minor=16)
-    field = cross_field(V, F, align="curvature")
+    assert len(singularities(V, F, cross_field(V, F)).vertices) == 0  # the default, weak alignment
+    field = cross_field(V, F, align="curvature", curvature_weight=1.0)
     vertices, indices = singularities(V, F, field)
     assert len(vertices) == 0 and indices.sum() == 0
     centroids = V[F].mean(1)
     parallel = np.stack([-centroids[:, 1], centroids[:, 0], np.zeros(len(F))], axis=1)
     error = cross_angle_error(field.directions, parallel, face_normals(V, F))
-    # smoothness pulls the field off the parallels (which curve geodesically) by a little
-    assert np.degrees(error.max()) < 5.0 and np.degrees(error.mean()) < 2.0
+    # the principal directions estimated on this coarse torus are off by 1.2° (0.35° at twice
+    # the resolution); the per-face cross adds the turn of the parallels across a face
+    assert np.degrees(error.max()) < 3.0 and np.degrees(error.mean()) < 1.5
 
 
 def test_torus_smooth_field_sums_to_zero():
@@ -147,3 +149,16 @@ def test_bad_fields_and_options_raise_input_error():
     F2 = np.vstack([F, F[:1] + 0])  # a duplicated face: non-manifold edges
     with pytest.raises(meshsmith.InputError):
         cross_field(V, F2)
+
+
+@pytest.mark.parametrize("name", ["fertility.off", "rocker-arm.obj", "spot.obj"])
+def test_singularities_agree_with_libigl(data_dir, name):
+    igl = pytest.importorskip("igl")
+    V, F = io.read_mesh(data_dir / name)
+    F = F.astype(np.int64)
+    field = cross_field(V, F)
+    PD2 = np.cross(face_normals(V, F), field.directions)
+    is_singular, index = igl.find_cross_field_singularities(V, F, field.directions, PD2)
+    ours = singularities(V, F, field)
+    assert np.array_equal(ours.vertices, np.flatnonzero(is_singular))
+    assert np.array_equal(ours.indices % 4, index[ours.vertices])  # libigl gives the index mod 4

@@ -186,9 +186,10 @@ void curvature_targets(const FieldMesh& mesh, const FaceRef& F, double weight, s
   }
 }
 
-using Solver = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+using Solver = detail::Cholesky;
 
 void factorize(Solver& solver, const Eigen::SparseMatrix<double>& A) {
+  detail::configure_cholmod(solver);
   solver.compute(A);
   if (solver.info() != Eigen::Success) throw SolverError("cross_field: CHOLMOD failed to factorize the field system");
 }

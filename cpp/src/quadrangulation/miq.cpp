@@ -39,7 +39,7 @@ namespace {
 
 using detail::FieldMesh;
 using Sparse = Eigen::SparseMatrix<double>;
-using Solver = Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower>;
+using Solver = detail::Cholesky;
 
 struct Term {
   int variable;
@@ -339,6 +339,7 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   Eigen::VectorXd g;
   reduced_system(H, g);
   Solver solver;
+  detail::configure_cholmod(solver);
   solver.analyzePattern(H);
   auto factorize = [&](const Sparse& A) {
     solver.factorize(A);
@@ -414,16 +415,29 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   result.uv = corner_uv(y);
   std::vector<char> flipped;
   result.flipped_before = result.flipped_after = count_flipped(result.uv, &flipped);
+  // The faces around each vertex (for the stiffened neighbourhoods).
+  std::vector<int> vertex_face_offsets(mesh.V.rows() + 1, 0), vertex_faces(3 * m);
+  for (Eigen::Index f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k) ++vertex_face_offsets[F(f, k) + 1];
+  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) vertex_face_offsets[v + 1] += vertex_face_offsets[v];
+  {
+    std::vector<int> fill(vertex_face_offsets.begin(), vertex_face_offsets.end() - 1);
+    for (Eigen::Index f = 0; f < m; ++f)
+      for (int k = 0; k < 3; ++k) vertex_faces[fill[F(f, k)]++] = static_cast<int>(f);
+  }
+  // Each round stiffens the faces flipped in the best map so far and the faces around their
+  // corners, and keeps the re-solved map when it has no more flips.
   for (int round = 0; round < options.repair_iterations && result.flipped_after > 0; ++round) {
     progress.report(0.8 + 0.2 * round / std::max(1, options.repair_iterations), "miq: repair");
+    std::vector<char> stiffen(m, 0);
     for (Eigen::Index f = 0; f < m; ++f) {
       if (!flipped[f]) continue;
-      weight[f] *= options.stiffening;
-      for (int k = 0; k < 3; ++k) {  // and the faces around its corners' edges
-        const int e = incidence.side_edge[3 * f + k];
-        const int other = mesh.other_face(e, static_cast<int>(f));
-        if (other >= 0 && !flipped[other]) weight[other] *= std::sqrt(options.stiffening);
-      }
+      for (int k = 0; k < 3; ++k)
+        for (int j = vertex_face_offsets[F(f, k)]; j < vertex_face_offsets[F(f, k) + 1]; ++j) stiffen[vertex_faces[j]] = 1;
+    }
+    for (Eigen::Index f = 0; f < m; ++f) {
+      // capped: beyond ~1e4 against the other faces the system loses its definiteness in floating point
+      if (stiffen[f]) weight[f] = std::min(1e4, weight[f] * (flipped[f] ? options.stiffening : std::sqrt(options.stiffening)));
     }
     reduced_system(H, g);
     Eigen::VectorXd candidate = y;
@@ -436,8 +450,8 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
       y = candidate;
       result.uv = uv;
       result.flipped_after = count;
+      flipped = std::move(now_flipped);
     }
-    flipped = std::move(now_flipped);
   }
   progress.report(1.0, "miq");
   return result;

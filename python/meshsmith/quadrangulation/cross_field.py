@@ -58,7 +58,7 @@ FieldLike = Union[CrossField, ArrayLike]
 
 
 def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constraints: object = None,
-                sharp_angle: float | None = None, curvature_weight: float = 0.1,
+                sharp_angle: float | None = None, curvature_weight: float = 0.01,
                 progress: ProgressCallback = None) -> CrossField:
     """A smooth cross field on a triangle mesh (§5.2.2 step 1; Bommes et al. 2009, in the
     power-4 representation of Knöppel et al. 2013).
@@ -108,9 +108,13 @@ def field_angles(V: ArrayLike, F: ArrayLike, field: FieldLike) -> FloatArray:
     the reference edge F[f,0] → F[f,1], counter-clockwise about the face normal).
     Raises InputError for a field of the wrong size, with NaN/Inf, or a direction normal to its face."""
     if isinstance(field, CrossField):
-        return field.theta
+        field = field.theta
     if _arguments.numbers(field, "field").ndim == 1:
-        return _arguments.finite(_arguments.real_array(field, "field"), "field")
+        theta = _arguments.finite(_arguments.real_array(field, "field"), "field")
+        n_faces = len(_arguments.index_array(F, "F", 3))
+        if len(theta) != n_faces:
+            raise InputError(f"field has {len(theta)} angles but the mesh has {n_faces} faces")
+        return theta
     mesh = on_referenced_vertices(V, F)
     return _core.field_angles(mesh.V, mesh.F, _arguments.real_array(field, "field", 3))
 

@@ -37,7 +37,7 @@ struct CrossFieldOptions {
   std::vector<int> constraint_faces;
   VertexMatrix constraint_directions;
   /// Weight of the curvature alignment against smoothness (FieldAlignment::curvature).
-  double curvature_weight = 0.1;
+  double curvature_weight = 0.01;
 };
 
 /// The per-edge data of a cross field: one row per unique edge (topology::edges order).
