@@ -3,15 +3,16 @@ side with Instant Meshes (pynanoinstantmeshes) and QuadriFlow (pyQuadriFlow), at
 
 Inputs: a torus (datasets.torus, 48×20 → 1,920 faces) and, when ../shared/data is present, spot.obj
 (5,856 faces) and fertility.off (9,000 faces, genus 4); quick mode: the torus and spot. Target: 2,000
-quads on the shared meshes, 300 on the torus; the peers get the same face count (Instant Meshes
-its `face_count`, QuadriFlow its requested faces).
+quads on the shared meshes, 300 on the torus; the peers get the same count (Instant Meshes as its
+target vertex count — a closed quad mesh has about as many vertices as faces —, QuadriFlow as its
+requested faces).
 
 Same work: each call remeshes the same triangle mesh into quads at the same target; the peers
 solve the problem differently (Instant Meshes: local position/orientation fields, quad-dominant
 output; QuadriFlow: a min-cost-flow integer field), so their ratios compare tools, not algorithms.
 
 Printed per tool: quads, non-quad faces, irregular (valence ≠ 4) interior vertices, mean
-|angle − 90°|, minimum scaled Jacobian, whether it is a closed manifold with the input's χ.
+|angle − 90°|, minimum scaled Jacobian, Hausdorff distance to the input ÷ its bounding-box diagonal, whether it is a closed manifold with the input's χ.
 Result checks (tolerances): meshsmith's mesh is pure quads, manifold and oriented (0 violations);
 on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 40% of the
 target (MIQ sets the grid size from the area, so the count follows the map's scale).
@@ -24,7 +25,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from harness import Benchmark, optional, shared_data_dir, size  # noqa: E402
 
-from meshsmith import datasets, io, repair, topology  # noqa: E402
+from meshsmith import datasets, geometry, io, repair, topology  # noqa: E402
 from meshsmith.io import Polygons  # noqa: E402
 from meshsmith.quadrangulation import quad_quality, quadrangulate  # noqa: E402
 
@@ -38,16 +39,17 @@ def shared_mesh(name):
 
 
 def instant_meshes(module, V, F, faces):
-    Vq, Q = module.remesh(V.astype(np.float32), F.astype(np.uint32), -1, face_count=faces, deterministic=True)
+    # Instant Meshes takes a vertex count (a closed quad mesh has about as many vertices as faces).
+    Vq, Q = module.remesh(V.astype(np.float32), F.astype(np.uint32), faces, deterministic=True)
     return np.asarray(Vq, dtype=np.float64), np.asarray(Q, dtype=np.int64)
 
 
 def quadriflow(module, V, F, faces):
-    Vq, Q = module.pyquadriflow(faces, 0, V, F, False, False, False, False, False)
-    return np.asarray(Vq, dtype=np.float64), np.asarray(Q, dtype=np.int64)
+    mesh = module.pyquadriflow(faces, 0, V, F, False, False, False, False, False)
+    return np.asarray(mesh["vertices"], dtype=np.float64), np.asarray(mesh["faces"], dtype=np.int64)
 
 
-def describe(V, Q, euler):
+def describe(V, Q, euler, input_mesh):
     """Figures of a quad(-dominant) mesh given as (k, 4) arrays (a triangle has a repeated corner)."""
     Q = np.asarray(Q)
     pure = np.array([len(set(q)) == 4 for q in Q.tolist()])
@@ -61,7 +63,10 @@ def describe(V, Q, euler):
     boundary[unique[counts == 1].ravel()] = True
     valence = np.bincount(Q.ravel(), minlength=len(V))
     irregular = int(((valence > 0) & ~boundary & (valence != 4)).sum())
-    return dict(quads=int(pure.sum()), non_quads=int((~pure).sum()), irregular=irregular,
+    V0, F0 = input_mesh
+    diagonal = float(np.linalg.norm(V0.max(0) - V0.min(0)))
+    hausdorff = geometry.hausdorff_distance(V, faces.fan_triangles()[0], V0, F0) / diagonal
+    return dict(quads=int(pure.sum()), non_quads=int((~pure).sum()), irregular=irregular, hausdorff=hausdorff,
                 angle=float(np.abs(quality.angles - 90).mean()) if quality else float("nan"),
                 jacobian=float(quality.scaled_jacobian.min()) if quality else float("nan"),
                 valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
@@ -69,7 +74,7 @@ def describe(V, Q, euler):
 
 def main():
     im = optional("pynanoinstantmeshes")
-    qf = optional("pyQuadriFlow")
+    qf = optional("pyQuadriFlow.pyQuadriFlow")
     cases = [("torus", datasets.torus(1.0, 0.4, 48, 20), 300)]
     for name in (["spot.obj"] if size(False, True) else ["spot.obj", "fertility.off"]):
         mesh = shared_mesh(name)
@@ -84,17 +89,17 @@ def main():
         if im:
             bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
         if qf:
-            bench.time("QuadriFlow", lambda: quadriflow(qf.pyQuadriFlow, V, F, target))
+            bench.time("QuadriFlow", lambda: quadriflow(qf, V, F, target))
         bench.report()
         result = bench.output("meshsmith")
-        figures = {"meshsmith": describe(result.V, result.Q, euler)}
+        figures = {"meshsmith": describe(result.V, result.Q, euler, (V, F))}
         for peer in ("Instant Meshes", "QuadriFlow"):
             if peer in bench.outputs:
-                figures[peer] = describe(*bench.output(peer), euler)
-        print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s}  valid (manifold, oriented, χ={euler})")
+                figures[peer] = describe(*bench.output(peer), euler, (V, F))
+        print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
         for tool, f in figures.items():
             print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} "
-                  f"{f['jacobian']:7.3f}  {f['valid']}")
+                  f"{f['jacobian']:7.3f} {f['hausdorff']:9.4f}  {f['valid']}")
         report = result.report
         print(f"  meshsmith: {len(report.singular_vertices)} singularities (index sum {int(report.singular_indices.sum())}), "
               f"MIQ flips {report.flipped_before} → {report.flipped_after}, extraction complete: "
