@@ -27,6 +27,12 @@ def disk():
     return datasets.disk(4, 16)
 
 
+def square_grid_map():
+    """The unit square with UV = 3·(x, y) per corner: a seamless map whose grid is 3×3 quads."""
+    V, F = datasets.grid(4, 4)
+    return V, F, 3 * V[F][:, :, :2]
+
+
 def sphere_with_unused_vertex():
     V, F = datasets.icosphere(1)
     return np.vstack([V, [[5.0, 5.0, 5.0]]]), F[:, ::-1]   # inward faces, one vertex no face uses
@@ -169,6 +175,19 @@ RESULTS = {
     "repair.clean": (lambda tmp: repair.clean(*sphere_with_unused_vertex()), ["V", "F", "report"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
+    "quadrangulation.extract_quads": (lambda tmp: quadrangulation.extract_quads(*square_grid_map()), ["V", "Q"]),
+    "quadrangulation.extract_quads report": (
+        lambda tmp: quadrangulation.extract_quads(*square_grid_map()).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadExtractionReport)]),
+    "quadrangulation.quadrangulate": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60),
+        ["V", "Q", "report"]),
+    "quadrangulation.quadrangulate report": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadrangulationReport)]),
+    "quadrangulation.quad_quality": (
+        lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
+        [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),
 }
 
 

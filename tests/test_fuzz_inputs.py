@@ -190,6 +190,10 @@ VALID = {
     "quadrangulation.singularities": {"field": np.linspace(0.0, 1.0, len(SPHERE_F))},
     "quadrangulation.cut_graph": {"field": np.linspace(0.0, 1.0, len(SPHERE_F))},
     "quadrangulation.miq": {"field": np.linspace(0.0, 1.0, len(SPHERE_F)), "target_quads": 50},
+    "quadrangulation.extract_quads": {"UV": 4 * SPHERE_V[SPHERE_F][:, :, :2]},
+    "quadrangulation.quadrangulate": {"target_faces": 40},
+    "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
+                                     "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},
@@ -210,6 +214,10 @@ NAN_ALLOWED: dict[str, tuple] = {
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
              "repair.ReferencedMesh.from_input_indices"}
+#: Face parameters that take polygons of any size as (m, s) arrays, s >= 3 (quad meshes): more
+#: columns are valid input there.
+POLYGON_FACES = {("render.render", "F"), ("render.render_uv_layout", "F"), ("topology.info", "F"),
+                 ("io.Polygons.from_array", "F"), ("io.write_mesh", "F")}
 #: Array parameters without a default for which None is documented as valid.
 NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
 #: Where a message names an integer option under another name than the Python parameter's.
@@ -346,7 +354,7 @@ def array_variants(a: np.ndarray, optional: bool, mesh_faces: bool, profile: Pro
         out.append(("bool", a != 0, REJECT))
     if a.ndim == 2:
         out.append(("1-d", a.ravel(), REJECT))
-        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else 4
+        columns = profile.wrong_columns if profile.wrong_columns != a.shape[1] else (5 if a.shape[1] == 4 else 4)
         wrong = np.hstack([a] * 7)[:, :columns]
         out.append((f"{columns} columns", wrong, REJECT))
         out.append(("empty", a[:0] if profile.empty_rows else [], EITHER))
@@ -456,6 +464,8 @@ def build_calls(profile: Profile, folder_files) -> tuple[list[worker.Call], list
                     variants.append(("index n", bad, REJECT))
                 for kind, bad_value, expected in variants:
                     if target in ANY_SHAPE and (kind in ("1-d", "2-d", "3-d", "0-d") or kind.endswith(" columns")):
+                        expected = EITHER
+                    if (target, name) in POLYGON_FACES and kind.endswith(" columns") and int(kind.split()[0]) > 3:
                         expected = EITHER
                     if part is not None:
                         bad_value = tuple(bad_value if k == part else v for k, v in enumerate(value))

@@ -21,4 +21,5 @@ void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls bo
 void bind_parametrization_abf(pybind11::module_& m);
 void bind_repair(pybind11::module_& m);
 void bind_quadrangulation(pybind11::module_& m);
+void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
 }  // namespace meshsmith::python

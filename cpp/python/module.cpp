@@ -37,4 +37,5 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_repair(repair);
   auto quadrangulation = m.def_submodule("quadrangulation");
   meshsmith::python::bind_quadrangulation(quadrangulation);
+  meshsmith::python::bind_quadrangulation_extraction(quadrangulation);
 }
