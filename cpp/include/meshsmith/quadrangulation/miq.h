@@ -16,7 +16,8 @@ struct MiqOptions {
   double target_edge_length = 0.0;
   bool round_singularities = true;  ///< singular vertices on integer points
   bool round_translations = true;   ///< the seams' translations integer
-  int repair_iterations = 10;       ///< rounds of stiffening flipped triangles and re-solving
+  int repair_iterations = 10;       ///< rounds of stiffening flipped triangles and re-solving at most
+                                    ///< (it stops after three rounds without fewer flips)
   double stiffening = 5.0;          ///< factor on the weight of a flipped triangle (and its neighbours) per round
 };
 
