@@ -42,7 +42,7 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
         ("min scaled Jacobian", f"{report.min_scaled_jacobian:.3f}"),
         ("squares left out", f"{extraction.squares_cut_by_boundary} cut by the boundary, "
                              f"{extraction.squares_inconsistent} inconsistent, "
-                             f"{extraction.quads_non_manifold} non-manifold"),
+                             f"{extraction.quads_non_manifold} non-manifold ({extraction.holes} holes)"),
         ("time", ", ".join(f"{stage} {seconds:.2f} s" for stage, seconds in report.seconds.items())),
     ]
     for key, value in rows:

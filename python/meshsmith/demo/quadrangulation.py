@@ -30,6 +30,7 @@ def stage_quadrangulation(context: DemoContext) -> Section:
         "irregular vertices": report.irregular_vertices,
         "flipped triangles after MIQ": report.flipped_after,
         "complete (χ preserved)": report.extraction.complete,
+        "holes (squares left out)": report.extraction.holes,
         "mean |angle - 90°|": report.mean_angle_deviation,
         "min scaled Jacobian": report.min_scaled_jacobian,
     }
