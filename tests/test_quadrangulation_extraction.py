@@ -323,6 +323,8 @@ def test_bad_input_gets_input_errors():
         extract_quads(V, F, bad)
     with pytest.raises(meshsmith.InputError, match="2\\^40"):
         extract_quads(V, F, UV * 1e13)
+    with pytest.raises(meshsmith.InputError, match="more than 2\\^26"):
+        extract_quads(V, F, UV * 1e5)
     # a fin: a third face on an edge
     V2 = np.vstack([V, [[0.1, 0.0, 1.0]]])
     f = len(F) // 2  # an interior face: its edges have two faces already

@@ -86,7 +86,8 @@ def extract_quads(V: ArrayLike, F: ArrayLike, UV: ArrayLike, *, progress: Progre
     do not match, non-integer singularities, boundaries across squares) the squares concerned are
     left out and ``result.report`` counts them; ``report.complete`` says the result covers the
     surface with the input's Euler characteristic. Raises InputError for bad input (shapes, NaN,
-    non-manifold meshes, faces repeating a vertex, |uv| >= 2^40).
+    non-manifold meshes, faces repeating a vertex, |uv| >= 2^40, a grid of more than 2^26 unit
+    squares over the triangles' bounding boxes).
     """
     Vq, Q, node_uv, node_face, report = _core.extract_quads(V, F, UV, progress)
     loops_out = len(topology.boundary_loops(np.concatenate([Q[:, [0, 1, 2]], Q[:, [0, 2, 3]]]))) if len(Q) else 0
