@@ -210,6 +210,8 @@ NAN_ALLOWED: dict[str, tuple] = {
     "geometry.triangle_distortion": ("vertex_isometric", "vertex_conformal", "vertex_area", "vertex_stretch_l2",
                                      "vertex_stretch_linf"),
     "repair.ReferencedMesh.to_input_rows": ("result",),   # `fill`, NaN by default, in the unreferenced rows
+    # no quad at all (a grid too coarse for the surface): the quality figures are undefined
+    "quadrangulation.quadrangulate": ("mean_angle_deviation", "max_angle_deviation", "min_scaled_jacobian"),
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",

@@ -141,7 +141,7 @@ def test_flat_square_gives_exactly_the_k_by_k_grid(n, jitter):
     np.testing.assert_allclose(quality.scaled_jacobian, 1.0, atol=1e-12)
     np.testing.assert_allclose(np.linalg.norm(Vq[Q[:, 1]] - Vq[Q[:, 0]], axis=1), 1 / k, atol=1e-12)
     report = result.report
-    assert report.complete and report.euler_input == report.euler_output == 1
+    assert report.complete and report.euler_input == report.euler_output == 1 and report.holes == 0
     assert report.flipped_triangles == 0 and len(report.singular_vertices) == 0
     node_uv_is_exact(V, F, UV, result)
     assert_unit_squares_translations(result)
@@ -254,6 +254,7 @@ def test_a_fold_that_cannot_be_untangled_is_reported_and_the_rest_stays_valid():
     result = extract_quads(V, F, UV)
     report = result.report
     assert report.flipped_triangles == flipped and report.untangled_vertices == 0 and not report.complete
+    assert report.holes == 0  # the square's corner is cut off: the boundary loop changes, no hole opens
     assert report.squares_inconsistent + report.squares_cut_by_boundary >= 1 and 0 < len(result.Q) < 25
     assert_valid_quad_mesh(result.V, result.Q)
 
@@ -322,6 +323,8 @@ def test_bad_input_gets_input_errors():
         extract_quads(V, F, bad)
     with pytest.raises(meshsmith.InputError, match="2\\^40"):
         extract_quads(V, F, UV * 1e13)
+    with pytest.raises(meshsmith.InputError, match="more than 2\\^26"):
+        extract_quads(V, F, UV * 1e5)
     # a fin: a third face on an edge
     V2 = np.vstack([V, [[0.1, 0.0, 1.0]]])
     f = len(F) // 2  # an interior face: its edges have two faces already
@@ -369,3 +372,18 @@ def test_quad_quality_rejects_bad_quads():
         quad_quality(V, [[0, 1, 1, 2]])
     with pytest.raises(meshsmith.InputError):
         quad_quality(V, [[0, 1, 2]])
+
+
+def test_a_fold_that_opens_a_hole_is_counted():
+    V, F, UV = torus(6, 3)
+    UV = UV.copy()
+    w = 5 * 9 + 4                                # two neighbours pushed past each other
+    face = F[np.flatnonzero((F == w).any(1))[0]]
+    t = face[(list(face).index(w) + 1) % 3]
+    a, b = UV[F == w][0].copy(), UV[F == t][0].copy()
+    UV[F == w], UV[F == t] = a + 2 * (b - a), b + 2 * (a - b)
+    result = extract_quads(V, F, UV)
+    report = result.report
+    assert report.flipped_triangles == 2 and not report.complete
+    assert report.holes == 1 and report.euler_output == -1 and len(result.Q) == 17
+    assert_valid_quad_mesh(result.V, result.Q)

@@ -71,3 +71,23 @@ def test_command_line_writes_a_quad_mesh(tmp_path, capsys):
     Vq, P = io.read_mesh(out, triangulate=False)
     assert (P.sizes == 4).all() and picture.stat().st_size > 0
     assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "10", "--edge-length", "0.2"]) == 2
+
+
+def test_demo_quadrangulation_stage(tmp_path):
+    import json
+
+    from meshsmith import demo
+    from meshsmith.demo.quadrangulation import stage_quadrangulation
+    name, V, F, uv = demo.builtin_shape()
+    context = demo.DemoContext(out=tmp_path, name=name, V=V, F=F, uv=uv)
+    section = stage_quadrangulation(context)
+    assert all((tmp_path / image).stat().st_size > 1000 for image, _ in section.images)
+    figures = context.figures["quadrangulation"]
+    assert figures["quads"] > 500 and figures["index sum (4χ)"] == 4 * topology.euler_characteristic(F)
+    json.dumps(figures)
+    # an input the pipeline cannot take (two components) is skipped with the reason
+    V2 = np.vstack([V, V + 10.0])
+    F2 = np.vstack([F, F + len(V)])
+    context = demo.DemoContext(out=tmp_path, name=name, V=V2, F=F2, uv=None)
+    section = stage_quadrangulation(context)
+    assert "skipped" in context.figures["quadrangulation"] and not section.images

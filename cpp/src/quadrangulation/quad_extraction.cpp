@@ -366,6 +366,19 @@ QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerU
     }
 
   // 3. Cells: (face, square) with overlapping interiors, sorted by (face, i, j).
+  {
+    // The grid's size, bounded before anything depends on it (a map scaled far too large would
+    // otherwise run for hours): the unit squares of every face's bounding box.
+    double squares = 0.0;
+    for (Eigen::Index f = 0; f < m; ++f) {
+      const Point A = U[3 * f], B = U[3 * f + 1], C = U[3 * f + 2];
+      squares += static_cast<double>(ceil_div(std::max({A.x, B.x, C.x}), shift) - floor_div(std::min({A.x, B.x, C.x}), shift)) *
+                 static_cast<double>(ceil_div(std::max({A.y, B.y, C.y}), shift) - floor_div(std::min({A.y, B.y, C.y}), shift));
+    }
+    if (squares > std::ldexp(1.0, 26))
+      throw InputError("UV spans about " + std::to_string(static_cast<long long>(squares)) +
+                       " unit squares over its triangles, more than 2^26: scale the parametrization down");
+  }
   std::vector<Cell> cells;
   std::vector<int> face_cells(m + 1, 0);
   std::vector<int> face_sign(m, 0);

@@ -14,6 +14,7 @@ from .decimation import stage_decimation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
+from .quadrangulation import stage_quadrangulation
 from .render import stage_pictures
 from .repair import stage_clean
 from .report import html_report
@@ -21,7 +22,7 @@ from .tessellation import stage_crust, stage_tessellation
 
 #: Every chapter's stage, in pipeline order; a new chapter adds its stage here.
 STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_decimation,
-          stage_parametrization]
+          stage_parametrization, stage_quadrangulation]
 
 
 def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:

@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import topology
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
@@ -27,7 +28,8 @@ class QuadExtractionReport(Unpackable):
     squares_inconsistent: squares whose pieces do not fit together (left out); quads_non_manifold:
     quads removed so the rest is manifold. euler_input, euler_output: χ of the triangle and quad
     meshes. mirrored: the map was clockwise overall and was read as (u, -v). complete: nothing was
-    left out and χ is preserved.
+    left out and χ is preserved. holes: boundary loops of the quad mesh beyond the input's (where
+    squares were left out; 0 when complete).
     """
 
     flipped_triangles: int
@@ -44,6 +46,7 @@ class QuadExtractionReport(Unpackable):
     euler_output: int
     mirrored: bool
     complete: bool
+    holes: int
 
 
 @dataclass(frozen=True)
@@ -83,9 +86,12 @@ def extract_quads(V: ArrayLike, F: ArrayLike, UV: ArrayLike, *, progress: Progre
     do not match, non-integer singularities, boundaries across squares) the squares concerned are
     left out and ``result.report`` counts them; ``report.complete`` says the result covers the
     surface with the input's Euler characteristic. Raises InputError for bad input (shapes, NaN,
-    non-manifold meshes, faces repeating a vertex, |uv| >= 2^40).
+    non-manifold meshes, faces repeating a vertex, |uv| >= 2^40, a grid of more than 2^26 unit
+    squares over the triangles' bounding boxes).
     """
     Vq, Q, node_uv, node_face, report = _core.extract_quads(V, F, UV, progress)
+    loops_out = len(topology.boundary_loops(np.concatenate([Q[:, [0, 1, 2]], Q[:, [0, 2, 3]]]))) if len(Q) else 0
+    report["holes"] = max(0, loops_out - len(topology.boundary_loops(F)))
     report["singular_vertices"] = np.asarray(report["singular_vertices"], dtype=np.int64)
     report["singular_indices"] = np.asarray(report["singular_indices"], dtype=np.int64)
     return QuadExtraction(Vq, Q, node_uv, node_face, QuadExtractionReport(**report))

@@ -1,7 +1,6 @@
 """`quadrangulate`: a triangle mesh to a pure quad mesh — cross field, MIQ, quad extraction (§5.2.2)."""
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -30,7 +29,8 @@ class QuadrangulationReport(Unpackable):
     MIQ map before and after its repair; extraction: the :class:`QuadExtractionReport`;
     irregular_vertices: interior vertices of the quad mesh whose valence is not 4; mean_angle_deviation,
     max_angle_deviation: over every quad corner, |angle − 90°| in degrees; min_scaled_jacobian:
-    over every corner; seconds: wall time per stage ("cross field", "miq", "extraction").
+    over every corner (these three are NaN when no quad was made: a grid too coarse for the
+    surface). The report holds no timings, so equal calls give equal reports.
     """
 
     quads: int
@@ -45,7 +45,6 @@ class QuadrangulationReport(Unpackable):
     mean_angle_deviation: float
     max_angle_deviation: float
     min_scaled_jacobian: float
-    seconds: dict[str, float]
 
 
 @dataclass(frozen=True)
@@ -93,25 +92,19 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     consistently oriented pure quad mesh; ``report.extraction.complete`` says it covers the
     surface with the input's Euler characteristic (where the map is degenerate the squares
     concerned are left out and counted there). Raises InputError as :func:`cross_field` and
-    :func:`miq`, or for both targets; Cancelled from `progress`.
+    :func:`miq`, for both targets or target_faces outside [1, 2^24], and as :func:`extract_quads`
+    for a grid of more than 2^26 unit squares; Cancelled from `progress`.
     """
     if target_faces is not None and target_edge_length is not None:
         raise InputError("quadrangulate: give target_faces or target_edge_length, not both")
     if target_faces is not None:
-        target_faces = _arguments.integer(target_faces, "target_faces", 1, 2 ** 40)
+        target_faces = _arguments.integer(target_faces, "target_faces", 1, 2 ** 24)
     progress = _arguments.progress(progress)
-    seconds: dict[str, float] = {}
-    start = time.perf_counter()
     field = cross_field(V, F, align=align, sharp_angle=sharp_angle, progress=_stage(progress, 0.0, 0.15))
     singular = singularities(V, F, field)
-    seconds["cross field"] = time.perf_counter() - start
-    start = time.perf_counter()
     param = miq(V, F, field, target_edge_length=target_edge_length, target_quads=target_faces,
                 progress=_stage(progress, 0.15, 0.85))
-    seconds["miq"] = time.perf_counter() - start
-    start = time.perf_counter()
     quads = extract_quads(V, F, param.UV, progress=_stage(progress, 0.85, 1.0))
-    seconds["extraction"] = time.perf_counter() - start
     if len(quads.Q):
         quality = quad_quality(quads.V, quads.Q)
         deviation = np.abs(quality.angles - 90.0)
@@ -126,7 +119,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         singular_vertices=singular.vertices, singular_indices=singular.indices,
         flipped_before=param.flipped_before, flipped_after=param.flipped_after, extraction=quads.report,
         irregular_vertices=irregular, mean_angle_deviation=mean_deviation, max_angle_deviation=max_deviation,
-        min_scaled_jacobian=min_jacobian, seconds=seconds)
+        min_scaled_jacobian=min_jacobian)
     return Quadrangulation(quads.V, quads.Q, param.UV, report)
 
 

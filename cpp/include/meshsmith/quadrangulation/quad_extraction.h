@@ -68,7 +68,8 @@ struct QuadExtraction {
 /// until the rest is manifold, and the report counts each: the result is always a manifold,
 /// consistently oriented pure quad mesh, complete when report.complete().
 /// \pre validate_mesh(V, F) passes; F is manifold (edges and vertices); UV is finite, |uv| < 2^40.
-/// \throw InputError if a precondition fails (the message names the face, edge or vertex).
+/// \throw InputError if a precondition fails (the message names the face, edge or vertex), or if the
+///        triangles' bounding boxes in (u, v) hold more than 2^26 unit squares.
 /// Complexity: O(#F + #quads) expected (ordered maps: × log).
 QuadExtraction extract_quads(const VertexRef& V, const FaceRef& F, const CornerUVRef& UV,
                              const Progress& progress = {});
