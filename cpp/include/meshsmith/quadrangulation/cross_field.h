@@ -74,7 +74,7 @@ struct Singularities {
 /// \throw InputError naming the offending face, vertex or edge for non-manifold or otherwise
 ///        bad input (and `meshsmith clean`), for a constraint face out of range, or a
 ///        direction that is not finite or is normal to its face; SolverError if CHOLMOD fails.
-/// Complexity: one factorization of a 2#F × 2#F sparse matrix.
+/// Complexity: one factorization of a #F × #F sparse complex Hermitian matrix.
 CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOptions& options = {},
                        const Progress& progress = {});
 
