@@ -15,6 +15,8 @@ import pytest
 import meshsmith
 from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, reconstruction,
                        registration, render, repair, tessellation,
+from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, quadrangulation, render, repair,
+                       tessellation,
                        topology)
 from meshsmith._results import Unpackable
 
@@ -30,6 +32,10 @@ def disk():
 def sphere_with_hole():
     V, F = datasets.icosphere(1)
     return V, F[1:]
+def square_grid_map():
+    """The unit square with UV = 3·(x, y) per corner: a seamless map whose grid is 3×3 quads."""
+    V, F = datasets.grid(4, 4)
+    return V, F, 3 * V[F][:, :, :2]
 
 
 def sphere_with_unused_vertex():
@@ -165,6 +171,17 @@ RESULTS = {
                             ["uv", "angles", "optimal_angles", "iterations", "residual", "residual_history"]),
     "parametrization.parametrize": (lambda tmp: parametrization.parametrize(*datasets.torus(n_major=16, n_minor=8)),
                                     ["V", "F", "uv", "cut", "method", "distortion", "bijective"]),
+    "quadrangulation.cross_field": (lambda tmp: quadrangulation.cross_field(*datasets.icosphere(1)),
+                                    ["theta", "directions"]),
+    "quadrangulation.singularities": (
+        lambda tmp: quadrangulation.singularities(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["vertices", "indices"]),
+    "quadrangulation.cut_graph": (
+        lambda tmp: quadrangulation.cut_graph(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["cut", "singularities", "combed_theta", "seam_jumps"]),
+    "quadrangulation.miq": (
+        lambda tmp: quadrangulation.miq(*datasets.icosphere(1), quadrangulation.cross_field(*datasets.icosphere(1))),
+        ["UV", "flipped_before", "flipped_after"]),
     "repair.remove_unreferenced": (lambda tmp: repair.remove_unreferenced(*sphere_with_unused_vertex()),
                                    ["V", "F", "vertex_map"]),
     "repair.orient_faces": (lambda tmp: repair.orient_faces(*sphere_with_unused_vertex()), ["F", "flipped"]),
@@ -177,6 +194,19 @@ RESULTS = {
                                 ["loop", "faces", "vertices"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
+    "quadrangulation.extract_quads": (lambda tmp: quadrangulation.extract_quads(*square_grid_map()), ["V", "Q"]),
+    "quadrangulation.extract_quads report": (
+        lambda tmp: quadrangulation.extract_quads(*square_grid_map()).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadExtractionReport)]),
+    "quadrangulation.quadrangulate": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60),
+        ["V", "Q", "report"]),
+    "quadrangulation.quadrangulate report": (
+        lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60).report,
+        [field.name for field in dataclasses.fields(quadrangulation.QuadrangulationReport)]),
+    "quadrangulation.quad_quality": (
+        lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
+        [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),
 }
 
 

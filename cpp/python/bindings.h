@@ -28,4 +28,6 @@ void bind_registration(pybind11::module_& m);
 void bind_reconstruction_depth(pybind11::module_& m);     // on "reconstruction"
 void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls both on "smoothing"
 void bind_deformation(pybind11::module_& m);
+void bind_quadrangulation(pybind11::module_& m);
+void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
 }  // namespace meshsmith::python

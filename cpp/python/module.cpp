@@ -47,4 +47,7 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_smoothing_fairing(smoothing);
   auto deformation = m.def_submodule("deformation");
   meshsmith::python::bind_deformation(deformation);
+  auto quadrangulation = m.def_submodule("quadrangulation");
+  meshsmith::python::bind_quadrangulation(quadrangulation);
+  meshsmith::python::bind_quadrangulation_extraction(quadrangulation);
 }

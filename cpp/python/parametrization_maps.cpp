@@ -127,16 +127,17 @@ void bind_parametrization_maps(py::module_& m) {
     return to_numpy(without_gil([&] { return lscm_spectral(mesh.V(), mesh.F()); }));
   }, py::arg("V"), py::arg("F"));
 
-  m.def("cut_to_disk", [](const py::object& V, const py::object& F) {
+  m.def("cut_to_disk", [](const py::object& V, const py::object& F, const py::object& through) {
     const MeshArguments mesh(V, F);
-    CutMesh cut = without_gil([&] { return cut_to_disk(mesh.V(), mesh.F()); });
+    const std::vector<int> vertices = through.is_none() ? std::vector<int>{} : as_indices(through, "through");
+    CutMesh cut = without_gil([&] { return cut_to_disk(mesh.V(), mesh.F(), vertices); });
     py::dict out;
     out["V"] = to_numpy(std::move(cut.V));
     out["F"] = indices_to_numpy(cut.F);
     out["vertex_origin"] = indices_to_numpy(cut.vertex_origin).attr("reshape")(-1);
     out["seam_edges"] = indices_to_numpy(cut.seam_edges);
     return out;
-  }, py::arg("V"), py::arg("F"));
+  }, py::arg("V"), py::arg("F"), py::arg("through") = py::none());
 
   m.def("check_bijectivity", [](const py::object& UV, const py::object& F) {
     const ParameterMatrix uv = as_parameters(UV, "UV");

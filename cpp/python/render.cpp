@@ -68,7 +68,7 @@ void bind_render(py::module_& m) {
                           std::array<double, 3> background_bottom, bool transparent_background,
                           const py::object& scalar, double scalar_min, double scalar_max,
                           const std::string& colormap, const py::object& uv,
-                          double checker_size) {
+                          double checker_size, const py::object& wireframe_edges) {
     auto vertices = as_real_matrix(V, "V", 3);
     auto faces = as_index_matrix(F, "F", 3);
     const int width = integer_argument<int>(width_in, "width", 1, render::kMaxImageSide);
@@ -118,6 +118,15 @@ void bind_render(py::module_& m) {
       options.uv = Eigen::Map<const render::UvMatrix>(coordinates.data(), coordinates.shape(0), 2);
       options.checker_size = checker_size;
     }
+    if (!wireframe_edges.is_none()) {
+      const IndexArray masks = as_index_vector(wireframe_edges, "wireframe_edges");
+      options.wireframe_edges.resize(static_cast<std::size_t>(masks.shape(0)));
+      for (py::ssize_t f = 0; f < masks.shape(0); ++f) {
+        const int mask = masks.data()[f];
+        if (mask < 0 || mask > 7) throw InputError("wireframe_edges[" + std::to_string(f) + "] = " + std::to_string(mask) + ": expected a 3-bit mask in [0, 7]");
+        options.wireframe_edges[static_cast<std::size_t>(f)] = static_cast<std::uint8_t>(mask);
+      }
+    }
     render::RgbaImage image;
     {
       py::gil_scoped_release release;
@@ -133,7 +142,7 @@ void bind_render(py::module_& m) {
      py::arg("back_color"), py::arg("wireframe_color"), py::arg("background_top"),
      py::arg("background_bottom"), py::arg("transparent_background"), py::arg("scalar"),
      py::arg("scalar_min"), py::arg("scalar_max"), py::arg("colormap"), py::arg("uv"),
-     py::arg("checker_size"),
+     py::arg("checker_size"), py::arg("wireframe_edges") = py::none(),
      "(H, W, 4) uint8 RGBA picture of (V, F); see meshsmith.render.render for the meaning.");
 
   m.def("colormap_table", [](const std::string& name, const py::object& steps_in) {

@@ -17,6 +17,7 @@ from . import (
                points,
                reconstruction,
                registration,
+               quadrangulation,
                render,
                repair,
                smoothing,
@@ -46,6 +47,7 @@ __all__ = [
     "registration",
     "reconstruction",
     "deformation",
+    "quadrangulation",
     "datasets",
     "__version__",
 ]

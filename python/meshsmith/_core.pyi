@@ -23,5 +23,6 @@ smoothing: Any
 registration: Any
 reconstruction: Any
 deformation: Any
+quadrangulation: Any
 
 def __getattr__(name: str) -> Any: ...

@@ -41,6 +41,7 @@ from ._deprecation import positional_options
 from ._typing import ArrayLike, FloatArray, PathLike
 
 if TYPE_CHECKING:
+    from .io import Polygons
     from .parametrization import Parametrization
 
 __all__ = ["VIEWS", "COLORMAPS", "View", "Color", "Camera", "ViewAngles", "ScalarRange", "view_angles", "frame_camera", "colormap", "scalar_range",
@@ -181,19 +182,22 @@ def _robust_range(scalar: ArrayLike, vertex_count: int, cmap: str) -> ScalarRang
     return ScalarRange(float(low), float(high))
 
 
-def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),
+def render(V: ArrayLike, F: ArrayLike | Polygons, path: PathLike | None = None, *, size: tuple[int, int] = (800, 600),
            view: View = "three-quarter", views: Sequence[View] | None = None, columns: int | None = None,
            camera: Camera | None = None, up: str = "y", projection: str = "perspective", fov: float = 30.0,
            scalar: ArrayLike | None = None, cmap: str | None = None, scalar_range: tuple[float, float] | None = None,
            scalar_label: str | None = None, colorbar: bool | None = None,
-           wireframe: bool | Literal["auto"] = False, wireframe_width: float = 1.0, uv: ArrayLike | None = None,
+           wireframe: bool | Literal["auto"] | None = None, wireframe_width: float = 1.0,
+           uv: ArrayLike | None = None,
            checker_size: float | None = None, flat: bool = False, crease_angle: float = 60.0,
            lighting: bool = True, color: Sequence[float] = _FRONT_COLOR, back_color: Sequence[float] = _BACK_COLOR,
            title: str | None = None, background: Color | tuple[Color, Color] = "gradient",
            supersample: int = 3) -> np.ndarray:
-    """Render a shaded picture of the triangle mesh (V, F); write it as a PNG if `path` is given.
+    """Render a shaded picture of the mesh (V, F); write it as a PNG if `path` is given.
 
-    V: (n, 3) float array of vertex positions. F: (m, 3) integer array of triangles.
+    V: (n, 3) float array of vertex positions. F: (m, 3) integer array of triangles, (m, s) of
+    polygons with s > 3 corners (e.g. (k, 4) quads) or :class:`meshsmith.io.Polygons`; polygons are
+    drawn as fans of triangles whose wireframe shows the polygons' edges only.
     path: PNG file to write (str or Path), or None to only return the image.
     size: (width, height) in pixels of the picture, or of each panel when `views` is given.
     view: a name from :data:`VIEWS` ("three-quarter", "front", "back", "left", "right", "top",
@@ -215,8 +219,9 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
         `scalar` is given and the picture is wide enough); it shows the low, middle and high
         values of the range, and an overflow arrow (a triangle in the end colour) at each end
         beyond which some values were clipped.
-    wireframe: True draws every triangle edge (thin dark lines, anti-aliased); "auto" draws
-        them when there are few enough faces to read (#F <= width * height / 100).
+    wireframe: True draws every face edge (thin dark lines, anti-aliased); "auto" draws
+        them when there are few enough faces to read (#F <= width * height / 100); None
+        (default): True for polygon meshes (quads), False for triangles.
         wireframe_width: line width in pixels (lines of triangles only a few pixels high fade).
     uv: texture coordinates shown as a checkerboard, (n, 2) per vertex or (m, 3, 2) per
         corner. checker_size: side of a checker square in UV units (default: an eighth of the
@@ -251,8 +256,11 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
         cmap = "viridis" if scalar is None else default_colormap(scalar)
     if cmap not in COLORMAPS:
         raise InputError(f"unknown colormap '{cmap}': use one of {', '.join(COLORMAPS)}")
-    if wireframe not in (True, False, "auto"):
-        raise InputError(f"wireframe must be True, False or 'auto', got {wireframe!r}")
+    if wireframe not in (True, False, "auto", None):
+        raise InputError(f"wireframe must be True, False, 'auto' or None, got {wireframe!r}")
+    F, wireframe_edges, uv = _as_triangles(F, uv)
+    if wireframe is None:
+        wireframe = wireframe_edges is not None
     supersample = _arguments.integer(supersample, "supersample", 1, 4)
     gradient, transparent = _background(background)
     n_vertices, n_faces = _validated_counts(V, F)
@@ -298,7 +306,7 @@ def render(V: ArrayLike, F: ArrayLike, path: PathLike | None = None, *, size: tu
         wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,
         scalar=scalar, scalar_min=0.0 if low is None else float(low),
         scalar_max=1.0 if high is None else float(high), colormap=cmap, uv=uv,
-        checker_size=0.0 if checker_size is None else float(checker_size))
+        checker_size=0.0 if checker_size is None else float(checker_size), wireframe_edges=wireframe_edges)
 
     labels = []
     for index, (azimuth, elevation) in enumerate(angles):
@@ -505,6 +513,30 @@ def _check_range(value: Any) -> tuple[float, float]:
     if not (math.isfinite(low) and math.isfinite(high) and low <= high):
         raise InputError(f"scalar_range must be finite with low <= high, got {value!r}")
     return low, high
+
+
+def _as_triangles(F: Any, uv: Any) -> tuple[Any, Any, Any]:
+    """(triangles, wireframe edge masks or None, uv) for the rasterizer: polygon faces ((m, s > 3)
+    arrays, Polygons) as their fans, whose diagonals the wireframe leaves out; per-corner uv of
+    (m, s, 2) follows the fan's corners. Triangles pass through unchanged."""
+    from .io import Polygons
+    if not isinstance(F, Polygons):
+        faces = _arguments.numbers(F, "F", "index")
+        if faces.ndim != 2 or faces.shape[1] <= 3:
+            return F, None, uv
+        F = Polygons.from_array(faces)
+    triangles, masks, _ = F.fan_triangles()
+    if uv is not None and np.ndim(uv) == 3:
+        corners = _arguments.numbers(uv, "uv")
+        sizes = set(F.sizes.tolist())
+        size = sizes.pop() if len(sizes) == 1 else -1
+        if corners.shape != (len(F), size, 2):
+            raise InputError(f"uv has shape {corners.shape}: expected (#V, 2) per vertex or (#F, {size}, 2) per "
+                             "corner (polygons of one size)")
+        first = np.repeat(np.arange(len(F)), size - 2)
+        step = np.tile(np.arange(1, size - 1), len(F))
+        uv = np.stack([corners[first, 0], corners[first, step], corners[first, step + 1]], 1)
+    return triangles, masks, uv
 
 
 def _validated_counts(V: Any, F: Any) -> tuple[int, int]:

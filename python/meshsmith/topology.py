@@ -22,16 +22,20 @@ inputs are checked by the C++ core; bad input raises :class:`meshsmith.InputErro
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal, NamedTuple, overload
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, overload
 
 import numpy as np
 
+from . import _arguments
 from ._core import core as _core
 from ._core import geometry as _geometry
 from ._core import topology as _topology
 from ._deprecation import positional_options
 from ._results import Unpackable
 from ._typing import ArrayLike, FloatArray, IndexArray
+
+if TYPE_CHECKING:
+    from .io import Polygons
 
 __all__ = [
     "edges", "boundary_loops", "connected_components", "ConnectedComponents",
@@ -239,13 +243,28 @@ class MeshInfo(Unpackable):
         return "\n".join(f"{name:<{width}}  {value}" for name, value in rows)
 
 
-def info(V: ArrayLike, F: ArrayLike) -> MeshInfo:
+def info(V: ArrayLike, F: ArrayLike | Polygons) -> MeshInfo:
     """Topological and geometric summary of a mesh (see :class:`MeshInfo`; ``str()`` it to print).
 
-    V: (n, 3) float array, F: (m, 3) integer array. Runs in O(m log m).
+    V: (n, 3) float array, F: (m, 3) integer array of triangles, (m, s) of polygons with s > 3
+    corners (a (k, 4) quad mesh) or :class:`meshsmith.io.Polygons`. Polygons count as faces and
+    their sides as edges; the rest is measured on their fan triangulation (same vertices, fans,
+    boundary and χ; area and volume of the fans for non-planar polygons). Runs in O(m log m).
     Raises InputError for bad input (empty, out-of-range index, NaN/Inf).
     """
+    from .io import Polygons
+    polygons = F if isinstance(F, Polygons) else None
+    if polygons is None:
+        faces = _arguments.numbers(F, "F", "index")
+        if faces.ndim == 2 and faces.shape[1] > 3:
+            polygons = Polygons.from_array(faces)
+    if polygons is not None:
+        F = polygons.fan_triangles()[0]
     counts = _topology.mesh_info(V, F)
+    if polygons is not None:
+        # Each diagonal of a fan is one more edge than the polygon has: s - 3 per polygon.
+        counts["n_faces"] = len(polygons)
+        counts["n_edges"] -= int((polygons.sizes - 3).sum())
     points = np.asarray(V, dtype=np.float64)
     return MeshInfo(
         **counts,

@@ -124,15 +124,20 @@ std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incide
   return keep;
 }
 
-/// The shortest edge path between two far-apart vertices (double Dijkstra sweep), as edge flags.
-std::vector<char> far_apart_path(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency) {
+/// The shortest edge path between two far-apart vertices (double Dijkstra sweep), as edge flags;
+/// from `start` to its farthest vertex when start ≥ 0.
+std::vector<char> far_apart_path(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency,
+                                 int start = -1) {
   std::vector<double> distance;
   std::vector<int> via;
   auto farthest = [&] {
     return static_cast<int>(std::max_element(distance.begin(), distance.end()) - distance.begin());
   };
-  shortest_paths(V, incidence, adjacency, {0}, distance, via);
-  const int a = farthest();
+  int a = start;
+  if (a < 0) {
+    shortest_paths(V, incidence, adjacency, {0}, distance, via);
+    a = farthest();
+  }
   shortest_paths(V, incidence, adjacency, {a}, distance, via);
   std::vector<char> cut(incidence.n_edges(), 0);
   for (int v = farthest(); v != a;) {
@@ -155,9 +160,35 @@ int corner_at(const FaceRef& F, int f, int v) {
   return -1;
 }
 
+/// Adds to `cut` the shortest paths joining every vertex of `through` to the seam or the
+/// boundary (one multi-source Dijkstra sweep: its tree paths form a forest hung on the sources).
+void join_to_cut(const VertexRef& V, const EdgeIncidence& incidence, const VertexEdges& adjacency,
+                 const std::vector<int>& through, std::vector<char>& cut) {
+  std::vector<char> on_cut(incidence.n_vertices, 0);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (cut[e] || incidence.side_count(e) == 1) on_cut[incidence.edges(e, 0)] = on_cut[incidence.edges(e, 1)] = 1;
+  }
+  std::vector<int> sources;
+  for (Eigen::Index v = 0; v < incidence.n_vertices; ++v) {
+    if (on_cut[v]) sources.push_back(static_cast<int>(v));
+  }
+  if (sources.empty()) sources.push_back(through.front());  // a closed sphere: the first vertex starts the seam
+  std::vector<double> distance;
+  std::vector<int> via;
+  shortest_paths(V, incidence, adjacency, sources, distance, via);
+  for (const int start : through) {
+    for (int v = start; via[v] >= 0 && !cut[via[v]];) {
+      cut[via[v]] = 1;
+      v = other_end(incidence, via[v], v);
+    }
+  }
+}
+
 }  // namespace
 
-CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F) {
+CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F) { return cut_to_disk(input_V, F, {}); }
+
+CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F, const std::vector<int>& through) {
   // Path lengths on normalized coordinates (edge lengths of 1e300-sized meshes overflowed to
   // inf and broke the shortest paths); the cut mesh copies the input's rows.
   const auto normalized = detail::normalized(input_V);
@@ -165,8 +196,20 @@ CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F) {
   const auto checked = detail::check_mesh(V, F, detail::Requirement::any, "cut_to_disk");
   const EdgeIncidence& incidence = checked.incidence;
   const Eigen::Index n = V.rows(), m = F.rows();
+  for (std::size_t k = 0; k < through.size(); ++k) {
+    if (through[k] < 0 || through[k] >= n) {
+      throw InputError("cut_to_disk: entry " + std::to_string(k) + " of the vertices to cut through is " +
+                       std::to_string(through[k]) + ", outside [0, " + std::to_string(n) + ")");
+    }
+  }
   CutMesh result;
-  if (checked.is_disk()) {
+  bool through_interior = false;
+  if (!through.empty() && checked.is_disk()) {
+    std::vector<char> boundary(n, 0);
+    for (const auto& loop : checked.boundary_loops) for (const int v : loop) boundary[v] = 1;
+    for (const int v : through) through_interior |= !boundary[v];
+  }
+  if (checked.is_disk() && !through_interior) {
     result.V = input_V;
     result.F = F;
     result.vertex_origin.setLinSpaced(n, 0, static_cast<int>(n - 1));
@@ -193,7 +236,13 @@ CutMesh cut_to_disk(const VertexRef& input_V, const FaceRef& F) {
     if (incidence.side_count(e) == 1) cut[e] = 0;  // boundary edges are open already
     n_cut += cut[e];
   }
-  if (n_cut == 0) cut = far_apart_path(V, incidence, adjacency);  // a closed sphere
+  if (!through.empty()) {
+    join_to_cut(V, incidence, adjacency, through, cut);
+    n_cut = std::count(cut.begin(), cut.end(), 1);
+  }
+  if (n_cut == 0) {  // a closed sphere
+    cut = far_apart_path(V, incidence, adjacency, through.empty() ? -1 : through.front());
+  }
 
   // Corners stay together across every interior edge that is not cut; each group of corners
   // around a vertex becomes one output vertex.

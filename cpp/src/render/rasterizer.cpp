@@ -346,10 +346,11 @@ class Shader {
 
     if (options_.wireframe) {
       double distance = std::numeric_limits<double>::infinity(), longest = 0.0;
+      const unsigned drawn = options_.wireframe_edges.empty() ? 7u : options_.wireframe_edges[face];
       for (int k = 0; k < 3; ++k) {
         const double length = triangle.edge[k].length();
         longest = std::max(longest, length);
-        if (length > 0.0) distance = std::min(distance, std::abs(w.edge_value[k]) / length);
+        if (length > 0.0 && (drawn >> k & 1u)) distance = std::min(distance, std::abs(w.edge_value[k]) / length);
       }
       const double coverage = std::clamp(wire_half_width_ + 0.5 - distance, 0.0, 1.0);
       // Lines of triangles only a few pixels high fade, so dense meshes do not turn black.
@@ -400,6 +401,9 @@ void validate_options(const VertexRef& V, const FaceRef& F, const RenderOptions&
     throw InputError("render: wireframe_width must be > 0");
   if (!(options.wireframe_opacity >= 0.0 && options.wireframe_opacity <= 1.0))
     throw InputError("render: wireframe_opacity must be in [0, 1]");
+  if (!options.wireframe_edges.empty() && static_cast<Eigen::Index>(options.wireframe_edges.size()) != F.rows())
+    throw InputError("render: wireframe_edges has " + std::to_string(options.wireframe_edges.size()) +
+                     " masks for " + std::to_string(F.rows()) + " faces");
   const std::array<const Eigen::Vector3d*, 7> colors{
       &options.front_color, &options.back_color, &options.wireframe_color,
       &options.background_top, &options.background_bottom, &options.checker_light,

@@ -44,6 +44,7 @@ from . import (
     parametrization,
     points,
     registration,
+    quadrangulation,
     render,
     repair,
     smoothing,
@@ -68,6 +69,7 @@ CHAPTERS = (
     decimation,
     parametrization,
     deformation,
+    quadrangulation,
     demo,
 )
 

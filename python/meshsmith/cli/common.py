@@ -204,6 +204,18 @@ def read_mesh(path: str) -> Mesh:
     return io.read_mesh(path)
 
 
+def read_faces(path: str) -> tuple[np.ndarray, np.ndarray | io.Polygons]:
+    """(V, faces) of a mesh file with its polygons kept: an (m, s) array when every face has s
+    corners ((m, 3) triangles, (m, 4) quads), else :class:`meshsmith.io.Polygons` (for the
+    commands that take any faces: info, render)."""
+    V, P = io.read_mesh(path, triangulate=False)
+    if not len(P):
+        return V, np.zeros((0, 3), dtype=np.int64)
+    if (P.sizes == P.sizes[0]).all():
+        return V, P.to_array()
+    return V, P
+
+
 #: Extensions read as point clouds (their own normals kept); other mesh formats give their vertices.
 POINT_CLOUD_SUFFIXES = (".xyz", ".ply")
 

@@ -6,26 +6,27 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import InputError, render
+from .. import InputError, io, render
 from .common import (
     UsageError,
     add_command,
     add_picture_size,
     check_output,
     number,
-    read_mesh,
+    read_faces,
 )
 
 #: Values of --up: the world axis that points up in the picture.
 UP_AXES = ("x", "y", "z", "-x", "-y", "-z")
 
 
-def scalar_field(name: str, V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, str]:
+def scalar_field(name: str, V: np.ndarray, F: np.ndarray | io.Polygons) -> tuple[np.ndarray, str]:
     """A per-vertex scalar for `--scalar`: a coordinate, the valence, or values from a .npy file."""
     if name in ("x", "y", "z"):
         return V[:, "xyz".index(name)].copy(), f"{name} coordinate"
     if name == "valence":
-        return np.bincount(np.asarray(F).ravel(), minlength=len(V)).astype(float), "vertex valence"
+        corners = F.indices if isinstance(F, io.Polygons) else np.asarray(F).ravel()
+        return np.bincount(corners, minlength=len(V)).astype(float), "vertex valence"
     path = Path(name)
     if path.suffix == ".npy":
         if not path.is_file():
@@ -72,8 +73,8 @@ def describe_range(values: np.ndarray, low: float, high: float) -> str:
 
 def command_render(args: argparse.Namespace) -> int:
     check_output(args.output, (".png",), "-o")
-    V, F = read_mesh(args.input)
-    options = dict(size=(args.width, args.height), wireframe=args.wireframe, flat=args.flat, up=args.up)
+    V, F = read_faces(args.input)  # quad meshes are drawn with their edges
+    options = dict(size=(args.width, args.height), wireframe=args.wireframe or None, flat=args.flat, up=args.up)
     line = ""
     if args.scalar:
         values, options["scalar_label"] = scalar_field(args.scalar, V, F)

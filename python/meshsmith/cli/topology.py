@@ -5,11 +5,11 @@ import argparse
 import json
 
 from .. import topology
-from .common import add_command, read_mesh
+from .common import add_command, read_faces
 
 
 def command_info(args: argparse.Namespace) -> int:
-    V, F = read_mesh(args.file)
+    V, F = read_faces(args.file)  # quads and other polygons count as themselves
     summary = topology.info(V, F)
     if args.json:
         print(json.dumps(summary.as_dict(), indent=2))

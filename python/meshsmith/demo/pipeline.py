@@ -16,6 +16,7 @@ from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
 from .registration import stage_registration
+from .quadrangulation import stage_quadrangulation
 from .render import stage_pictures
 from .repair import stage_clean
 from .smoothing import stage_smoothing
@@ -35,6 +36,7 @@ STAGES = [
     stage_decimation,
     stage_parametrization,
     stage_registration,
+    stage_quadrangulation,
 ]
 
 

@@ -113,6 +113,38 @@ class Polygons:
         return cls(np.arange(0, 3 * len(faces) + 1, 3, dtype=np.int64),
                    faces.reshape(-1).astype(np.int64))
 
+    @classmethod
+    def from_array(cls, F: ArrayLike) -> "Polygons":
+        """Polygons holding the rows of an (m, s) integer array, s >= 3 (e.g. (k, 4) quads)."""
+        faces = _arguments.numbers(F, "F", "index")
+        if faces.ndim != 2 or faces.shape[1] < 3:
+            raise InputError(f"F has shape {faces.shape}: expected (m, s) with s >= 3 corners per face")
+        faces = _arguments.index_array(faces, "F", faces.shape[1]).astype(np.int64)
+        size = faces.shape[1]
+        return cls(np.arange(0, size * len(faces) + 1, size, dtype=np.int64), faces.reshape(-1))
+
+    def to_array(self) -> IndexArray:
+        """(m, s) int64 array of the polygons when they all have s corners (a quad mesh read with
+        ``triangulate=False`` gives (k, 4)). Raises InputError when the sizes differ."""
+        sizes = self.sizes
+        if len(sizes) and (sizes != sizes[0]).any():
+            bad = int(np.argmax(sizes != sizes[0]))
+            raise InputError(f"polygon {bad} has {sizes[bad]} corners and polygon 0 has {sizes[0]}: "
+                             "not one array (use the Polygons, or triangulate)")
+        return self.indices.reshape(len(sizes), int(sizes[0]) if len(sizes) else 0).astype(np.int64)
+
+    def fan_triangles(self) -> tuple[IndexArray, np.ndarray, IndexArray]:
+        """The fan triangulation (:meth:`triangulate`) with, per triangle, a mask of which of its
+        edges are polygon edges (bit k: the edge opposite corner k; the fan's diagonals are not) and
+        the polygon it comes from: ((t, 3) int64, (t,) uint8, (t,) int64)."""
+        triangles = self.triangulate()
+        sizes = self.sizes
+        polygon_of = np.repeat(np.arange(len(sizes), dtype=np.int64), sizes - 2)
+        first = np.concatenate([[0], np.cumsum(sizes - 2)])[:-1]
+        step = np.arange(len(triangles)) - first[polygon_of] + 1  # triangle (v0, v_step, v_step+1)
+        masks = 1 + 2 * (step == sizes[polygon_of] - 2) + 4 * (step == 1)
+        return triangles, masks.astype(np.uint8), polygon_of
+
     def __len__(self) -> int:
         return len(self.offsets) - 1
 
@@ -289,7 +321,8 @@ def read_mesh(path: PathLike, *, triangulate: bool = True, format: str | None = 
     """Read a mesh from an OBJ, OFF, PLY, STL or GLB file.
 
     path: str or os.PathLike. triangulate: split polygons into fans of triangles (default);
-    with False the faces come back as :class:`Polygons`. format: "obj", "off", "ply", "stl" or
+    with False the faces come back as :class:`Polygons` (``F.to_array()`` gives a quad mesh's
+    (k, 4) array). format: "obj", "off", "ply", "stl" or
     "glb" to override the extension. return_attributes: return a :class:`MeshData` with the
     normals, texture coordinates and colours of the file (it still unpacks as ``V, F``).
 
@@ -310,6 +343,10 @@ def read_mesh(path: PathLike, *, triangulate: bool = True, format: str | None = 
 
 def _polygon_arrays(faces: ArrayLike | Polygons) -> tuple[ArrayLike, IndexArray | None]:
     """(flat indices (k, 1), offsets (m+1, 1) or None) for the binding."""
+    if not isinstance(faces, Polygons):
+        array = _arguments.numbers(faces, "F", "index")
+        if array.ndim == 2 and array.shape[1] > 3:
+            faces = Polygons.from_array(array)  # (k, 4) quads and other equal-sized polygons
     if isinstance(faces, Polygons):
         return _corner_column(faces.indices, "faces.indices"), _corner_column(faces.offsets, "faces.offsets")
     return faces, None
@@ -337,7 +374,8 @@ def write_mesh(path: PathLike, V: ArrayLike | MeshData, F: ArrayLike | Polygons 
     """Write a mesh with its attributes as OBJ, OFF, PLY, STL or GLB.
 
     V: (n, 3) real array, or a :class:`MeshData` (then F and the attributes come from it).
-    F: (m, 3) integer array of triangles, or :class:`Polygons`.
+    F: (m, 3) integer array of triangles, (m, s) of polygons with s corners each (e.g. (k, 4)
+    quads), or :class:`Polygons`.
     normals: (l, 3) with F_normal (like F; for Polygons a Polygons or a flat per-corner array),
     or (n, 3) per vertex without F_normal. UV: (k, 2) with F_uv, or (n, 2) without.
     colors: (n, 3) or (n, 4) RGB(A) per vertex; face_colors: (m, 3) or (m, 4) per face (per

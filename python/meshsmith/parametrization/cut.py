@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _arguments
 from .._core import parametrization as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray
@@ -31,13 +32,16 @@ class CutMesh(Unpackable):
     seam_edges: IndexArray
 
 
-def cut_to_disk(V: ArrayLike, F: ArrayLike) -> CutMesh:
+def cut_to_disk(V: ArrayLike, F: ArrayLike, *, through: ArrayLike | None = None) -> CutMesh:
     """Cut a closed or higher-genus surface into one topological disk (§5.2.2 step 2).
 
     A breadth-first spanning tree of the triangles (across edges) is grown from face 0; the edges
     it never crosses, pruned of dangling branches, are the 2g handle loops plus the paths joining
     the boundary loops: the seam. A closed genus-0 mesh is cut along the shortest edge path
     between two far-apart vertices. A disk comes back unchanged.
+    through: optional (k,) input vertex indices the seam must also pass through (the
+    singularities of a cross field, for :func:`meshsmith.quadrangulation.miq`): each is joined
+    to the seam or the boundary by its shortest edge path (a disk is cut for an interior one).
 
     V: (n, 3) float array, F: (m, 3) integer array.
     Returns a :class:`CutMesh`; it unpacks as ``V_cut, F_cut, vertex_origin, seam_edges``.
@@ -46,7 +50,9 @@ def cut_to_disk(V: ArrayLike, F: ArrayLike) -> CutMesh:
     :func:`meshsmith.repair.clean`), has several components or zero-area / repeated-index faces.
     """
     mesh = on_referenced_vertices(V, F)
-    return cut_on_input_vertices(CutMesh(**_core.cut_to_disk(mesh.V, mesh.F)), mesh, V)
+    if through is not None and mesh.removed:
+        through = mesh.from_input_indices(_arguments.index_array(through, "through"))
+    return cut_on_input_vertices(CutMesh(**_core.cut_to_disk(mesh.V, mesh.F, through=through)), mesh, V)
 
 
 def cut_on_input_vertices(cut: CutMesh, mesh: ReferencedMesh, V: ArrayLike) -> CutMesh:

@@ -7,6 +7,8 @@
 /// are the cut. Erickson & Whittlesey 2005, Gu, Gortler & Hoppe 2002 "Geometry images").
 #include <meshsmith/core/types.h>
 
+#include <vector>
+
 namespace meshsmith::parametrization {
 
 /// A mesh cut open along a seam. Vertices on the seam are duplicated: one copy per side.
@@ -34,5 +36,16 @@ struct CutMesh {
 ///      vertex (the checks of every parametrization in this chapter).
 /// \throw InputError naming the first offending face, vertex or edge otherwise.
 CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F);
+
+/// The same cut, made to pass through every vertex of `through` as well (the singularities of a
+/// cross field for MIQ, §5.2.2 step 2: "the cut graph must contain all singularities"): each
+/// listed vertex not already on the seam or the boundary is joined to it by its shortest edge
+/// path (one Dijkstra sweep from the seam and boundary vertices; the paths form a forest hung
+/// on the seam, so the result stays a disk). On a closed genus-0 mesh the first listed vertex
+/// starts the seam (the path to its farthest vertex when it is the only one). A disk is cut too
+/// when `through` lists an interior vertex. An empty `through` gives cut_to_disk(V, F).
+/// \pre as cut_to_disk.
+/// 	hrow InputError as cut_to_disk, or naming an entry of `through` outside [0, #V).
+CutMesh cut_to_disk(const VertexRef& V, const FaceRef& F, const std::vector<int>& through);
 
 }  // namespace meshsmith::parametrization

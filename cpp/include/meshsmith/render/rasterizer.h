@@ -44,6 +44,9 @@ struct RenderOptions {
   double wireframe_width = 1.0;    ///< line width in output pixels, > 0
   Eigen::Vector3d wireframe_color{0.10, 0.11, 0.14};
   double wireframe_opacity = 0.75; ///< in [0, 1]; lines of triangles under ~7 pixels high fade
+  /// Which edges the wireframe draws: #F masks, bit k set to draw the edge opposite vertex k of
+  /// face f (a quad mesh split into triangles hides its diagonals); empty: every edge.
+  std::vector<std::uint8_t> wireframe_edges;
 
   Eigen::Vector3d background_top{1.0, 1.0, 1.0};      ///< vertical gradient, top row
   Eigen::Vector3d background_bottom{0.88, 0.90, 0.94}; ///< bottom row

@@ -1,0 +1,117 @@
+"""Quadrangulation (§5.2.2): meshsmith's quadrangulate (cross field → MIQ → quad extraction) side by
+side with Instant Meshes (pynanoinstantmeshes) and QuadriFlow (pyQuadriFlow), at the same target.
+
+Inputs: a torus (datasets.torus, 48×20 → 1,920 faces) and, when ../shared/data is present, spot.obj
+(5,856 faces) and fertility.off (9,000 faces, genus 4); quick mode: the torus and spot. Target: 2,000
+quads on the shared meshes, 300 on the torus; the peers get the same count (Instant Meshes as its
+target vertex count — a closed quad mesh has about as many vertices as faces —, QuadriFlow as its
+requested faces).
+
+Same work: each call remeshes the same triangle mesh into quads at the same target; the peers
+solve the problem differently (Instant Meshes: local position/orientation fields, quad-dominant
+output; QuadriFlow: a min-cost-flow integer field), so their ratios compare tools, not algorithms.
+
+Printed per tool: quads, non-quad faces, irregular (valence ≠ 4) interior vertices, mean
+|angle − 90°|, minimum scaled Jacobian, Hausdorff distance to the input ÷ its bounding-box diagonal, whether it is a closed manifold with the input's χ.
+Result checks (tolerances): meshsmith's mesh is pure quads, manifold and oriented (0 violations);
+on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 40% of the
+target (MIQ sets the grid size from the area, so the count follows the map's scale).
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from harness import Benchmark, optional, shared_data_dir, size  # noqa: E402
+
+from meshsmith import datasets, geometry, io, repair, topology  # noqa: E402
+from meshsmith.io import Polygons  # noqa: E402
+from meshsmith.quadrangulation import quad_quality, quadrangulate  # noqa: E402
+
+
+def shared_mesh(name):
+    directory = shared_data_dir()
+    if directory is None:
+        return None
+    V, F = io.read_mesh(directory / name)
+    return repair.clean(V, F)[:2]
+
+
+def instant_meshes(module, V, F, faces):
+    # Instant Meshes takes a vertex count (a closed quad mesh has about as many vertices as faces).
+    Vq, Q = module.remesh(V.astype(np.float32), F.astype(np.uint32), faces, deterministic=True)
+    return np.asarray(Vq, dtype=np.float64), np.asarray(Q, dtype=np.int64)
+
+
+def quadriflow(module, V, F, faces):
+    mesh = module.pyquadriflow(faces, 0, V, F, False, False, False, False, False)
+    return np.asarray(mesh["vertices"], dtype=np.float64), np.asarray(mesh["faces"], dtype=np.int64)
+
+
+def describe(V, Q, euler, input_mesh):
+    """Figures of a quad(-dominant) mesh given as (k, 4) arrays (a triangle has a repeated corner)."""
+    Q = np.asarray(Q)
+    pure = np.array([len(set(q)) == 4 for q in Q.tolist()])
+    quads = Q[pure]
+    faces = Polygons.from_list([list(dict.fromkeys(q)) for q in Q.tolist()])
+    summary = topology.info(V, faces)
+    quality = quad_quality(V, quads) if len(quads) else None
+    edges = np.sort(np.stack([quads, np.roll(quads, -1, axis=1)], -1).reshape(-1, 2), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    boundary = np.zeros(len(V), bool)
+    boundary[unique[counts == 1].ravel()] = True
+    valence = np.bincount(Q.ravel(), minlength=len(V))
+    irregular = int(((valence > 0) & ~boundary & (valence != 4)).sum())
+    V0, F0 = input_mesh
+    diagonal = float(np.linalg.norm(V0.max(0) - V0.min(0)))
+    hausdorff = geometry.hausdorff_distance(V, faces.fan_triangles()[0], V0, F0) / diagonal
+    return dict(quads=int(pure.sum()), non_quads=int((~pure).sum()), irregular=irregular, hausdorff=hausdorff,
+                angle=float(np.abs(quality.angles - 90).mean()) if quality else float("nan"),
+                jacobian=float(quality.scaled_jacobian.min()) if quality else float("nan"),
+                valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
+
+
+def main():
+    im = optional("pynanoinstantmeshes")
+    qf = optional("pyQuadriFlow.pyQuadriFlow")
+    cases = [("torus", datasets.torus(1.0, 0.4, 48, 20), 300)]
+    for name in (["spot.obj"] if size(False, True) else ["spot.obj", "fertility.off"]):
+        mesh = shared_mesh(name)
+        if mesh is not None:
+            cases.append((name, mesh, 2000))
+    for name, (V, F), target in cases:
+        V, F = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+        euler = topology.euler_characteristic(F)
+        case = f"quadrangulate {name} ({len(F):,} F) to {target:,} quads"
+        bench = Benchmark("quadrangulation", case, repeats=3)
+        bench.time("meshsmith", lambda: quadrangulate(V, F, target_faces=target))
+        if im:
+            bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
+        if qf:
+            bench.time("QuadriFlow", lambda: quadriflow(qf, V, F, target))
+        bench.report()
+        result = bench.output("meshsmith")
+        figures = {"meshsmith": describe(result.V, result.Q, euler, (V, F))}
+        for peer in ("Instant Meshes", "QuadriFlow"):
+            if peer in bench.outputs:
+                figures[peer] = describe(*bench.output(peer), euler, (V, F))
+        print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
+        for tool, f in figures.items():
+            print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} "
+                  f"{f['jacobian']:7.3f} {f['hausdorff']:9.4f}  {f['valid']}")
+        report = result.report
+        print(f"  meshsmith: {len(report.singular_vertices)} singularities (index sum {int(report.singular_indices.sum())}), "
+              f"MIQ flips {report.flipped_before} → {report.flipped_after}, extraction complete: "
+              f"{report.extraction.complete}, left out {report.extraction.squares_inconsistent} squares")
+        T = np.concatenate([result.Q[:, [0, 1, 2]], result.Q[:, [0, 2, 3]]])
+        bench.check("meshsmith: non-quad faces + non-manifold + unoriented",
+                    figures["meshsmith"]["non_quads"] + (not topology.is_manifold(T)) + (not topology.is_oriented(T)), 0)
+        bench.check("meshsmith: |quads − target| / target", abs(len(result.Q) - target) / target, 0.4)
+        if name == "torus":
+            bench.check("torus: irregular vertices + (χ ≠ 0)",
+                        figures["meshsmith"]["irregular"] + (not report.extraction.complete), 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,104 @@
+#pragma once
+/// \file cross_field.h
+/// Cross fields (4-RoSy fields) on triangle meshes, their period jumps and singularities
+/// (§5.2.2 step 1 "Cross field": a smooth per-face cross minimizing Σ (θ_i + κ_ij + π/2·p_ij − θ_j)²;
+/// Bommes, Zimmer & Kobbelt 2009 "Mixed-integer quadrangulation"; solved in the power-4
+/// representation of Knöppel, Crane, Pinkall & Schröder 2013 "Globally optimal direction fields").
+///
+/// Conventions. Face f's frame: e1 = the unit vector along its reference edge F(f,0) → F(f,1),
+/// n = the unit normal of the counter-clockwise triangle, e2 = n × e1. A cross is an angle θ_f
+/// against e1 (it stands for the four directions θ_f + k·π/2). Across an interior edge from
+/// face f to face g, parallel transport (the Levi-Civita connection of the unfolded pair) maps
+/// the angle θ in f's frame to θ + κ_fg in g's frame; the period jump p_fg is the integer with
+/// θ_g − θ_f − κ_fg − p_fg·π/2 ∈ [−π/4, π/4).
+#include <meshsmith/core/progress.h>
+#include <meshsmith/core/types.h>
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace meshsmith::quadrangulation {
+
+/// What the cross field follows besides smoothness.
+enum class FieldAlignment {
+  curvature,  ///< principal curvature directions where the surface is anisotropic (soft), the boundary (hard)
+  smooth,     ///< the smoothest field (smallest eigenvector of the connection Laplacian); no boundary constraint
+  boundary,   ///< the boundary (hard), smooth inside
+};
+
+struct CrossFieldOptions {
+  FieldAlignment align = FieldAlignment::curvature;
+  /// Interior edges whose dihedral angle (between the face normals) exceeds this many degrees
+  /// are features: their two faces are constrained to the edge direction. ≤ 0: no features.
+  double sharp_angle_degrees = 0.0;
+  /// User constraints: face constraint_faces[k] gets one direction of its cross along
+  /// constraint_directions.row(k) (projected into the face plane).
+  std::vector<int> constraint_faces;
+  VertexMatrix constraint_directions;
+  /// Weight of the curvature alignment against smoothness (FieldAlignment::curvature).
+  double curvature_weight = 0.01;
+};
+
+/// The per-edge data of a cross field: one row per unique edge (topology::edges order).
+struct FieldEdges {
+  EdgeMatrix edges;             ///< #E×2 vertex pairs (i < j)
+  EdgeMatrix faces;             ///< #E×2 the faces on each side (f, g), f's side runs i → j; g = −1 on a boundary edge
+  Eigen::VectorXd connection;   ///< #E κ_fg in (−π, π] (0 on a boundary edge)
+  Eigen::VectorXi period_jumps; ///< #E p_fg in {−1, 0, 1, 2} (0 on a boundary edge)
+};
+
+struct CrossField {
+  Eigen::VectorXd theta;      ///< #F angle of the cross against each face's reference edge, in [0, π/2)
+  VertexMatrix directions;    ///< #F×3 unit vector of the cross at angle theta (the other three: its rotations about n)
+  FieldEdges edges;           ///< connection angles and period jumps
+  Eigen::Index constrained_faces = 0;  ///< faces held by a hard constraint (boundary, feature, user)
+};
+
+struct Singularities {
+  std::vector<int> vertices;  ///< the singular vertices, increasing
+  std::vector<int> indices;   ///< their indices in quarter turns (+1: valence-3 corner, −1: valence 5)
+};
+
+/// A cross field on (V, F) (§5.2.2 step 1). The power-4 complex numbers z_f = e^{4iθ_f}
+/// minimize Σ_edges w_e |z_g − e^{4iκ_fg} z_f|² (w_e = |e|² / (A_f + A_g)), plus the soft
+/// curvature term Σ_f λ·A_f/Ā·a_f |z_f − z*_f|² for align = curvature (z*_f from the principal
+/// direction d1 of the vertices, a_f ∈ [0, 1] the agreement-weighted anisotropy |k1 − k2| /
+/// (|k1| + |k2|)), with hard constraints (boundary edges for align = curvature | boundary;
+/// feature edges above `sharp_angle_degrees`; user constraints) eliminated. Unconstrained
+/// smooth fields are the smallest eigenvector of the Hermitian connection Laplacian (inverse
+/// iteration, CHOLMOD); constrained or curvature-aligned ones one sparse SPD solve. Where
+/// curvature gives no anisotropic face (a sphere), align = curvature falls back to smooth.
+/// V: #V×3, F: #F×3.
+/// \pre a clean, connected, oriented 2-manifold (parametrization::detail::check_mesh).
+/// \throw InputError naming the offending face, vertex or edge for non-manifold or otherwise
+///        bad input (and `meshsmith clean`), for a constraint face out of range, or a
+///        direction that is not finite or is normal to its face; SolverError if CHOLMOD fails.
+/// Complexity: one factorization of a #F × #F sparse complex Hermitian matrix.
+CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOptions& options = {},
+                       const Progress& progress = {});
+
+/// The connection angles κ and, for the per-face angles `theta` (#F), the period jumps of
+/// every edge of (V, F).
+/// \throw InputError as cross_field, or if theta has the wrong size or is not finite.
+FieldEdges field_edges(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta);
+
+/// Per-face angles θ of (#F×3) direction vectors in the face frames (the inverse of
+/// CrossField::directions).
+/// \throw InputError naming the face if a direction is not finite or is normal to its face.
+Eigen::VectorXd field_angles(const VertexRef& V, const FaceRef& F, const VertexRef& directions);
+
+/// #F×3 unit directions of the angles `theta` in the face frames.
+VertexMatrix field_directions(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta);
+
+/// The singular vertices of the cross field `theta` (#F) and their indices in quarter turns
+/// (§5.2.2: the index of an interior vertex is (K_v + Σ δ)/(π/2) with K_v the angle defect and δ
+/// the field's rotation against parallel transport across each edge of its fan,
+/// counter-clockwise; at a boundary vertex K_v = π − Σ angles and the turn from the first
+/// boundary edge to the field and from the field to the last boundary edge count). The indices
+/// sum to 4χ exactly on a closed mesh, and on a mesh with boundary when the field is aligned to
+/// the boundary (Poincaré–Hopf).
+/// \throw InputError as field_edges.
+Singularities singularities(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta);
+
+}  // namespace meshsmith::quadrangulation

@@ -1,0 +1,57 @@
+#pragma once
+/// \file miq.h
+/// Mixed-integer quadrangulation: a seamless, integer-grid parametrization that follows a cross
+/// field (§5.2.2 step 3; Bommes, Zimmer & Kobbelt 2009 "Mixed-integer quadrangulation").
+#include <meshsmith/core/progress.h>
+#include <meshsmith/core/types.h>
+#include <meshsmith/quadrangulation/cut_graph.h>
+
+#include <Eigen/Core>
+
+namespace meshsmith::quadrangulation {
+
+struct MiqOptions {
+  /// Target edge length of the quads, in input units (one unit of the integer grid). ≤ 0: twice
+  /// the mean edge length of the input.
+  double target_edge_length = 0.0;
+  bool round_singularities = true;  ///< singular vertices on integer points
+  bool round_translations = true;   ///< the seams' translations integer
+  int repair_iterations = 10;       ///< rounds of stiffening flipped triangles and re-solving at most
+                                    ///< (it stops after three rounds without fewer flips)
+  double stiffening = 5.0;          ///< factor on the weight of a flipped triangle (and its neighbours) per round
+};
+
+using CornerUV = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
+
+struct MiqResult {
+  CornerUV uv;                    ///< #F×6 (u0, v0, u1, v1, u2, v2): the parameter of each corner
+  Eigen::Index flipped_before = 0;  ///< triangles with det(B − A, C − A) ≤ 0 after the rounding
+  Eigen::Index flipped_after = 0;   ///< the same after the repair
+  FieldCut cut;                   ///< the cut graph and the combed field the map follows
+  Eigen::Index integer_variables = 0;  ///< seam translations and singular coordinates rounded
+  double rounding_residual = 0.0;     ///< max |y − round(y)| over the integer variables when each was rounded
+  int repair_rounds = 0;              ///< stiffening rounds run
+};
+
+/// A seamless integer-grid map of (V, F) following the cross field `theta` (#F angles, as
+/// CrossField::theta). The surface is cut to a disk through the singularities (cut_graph); the
+/// map minimizes Σ_f w_f A_f (‖∇u − s·u*_f‖² + ‖∇v − s·v*_f‖²), u*_f and v*_f = n × u*_f the
+/// combed cross, s = 1 / target_edge_length, subject to the transition functions across the
+/// seams — the two sides' (u, v) differ by a rotation by k·π/2 (the seam's period jump) and a
+/// translation — with the translations and the singular vertices' coordinates integers. The
+/// linear constraints are eliminated (each seam copy expressed through its twin), the reduced
+/// system is factorized once by CHOLMOD, and the integers are rounded greedily, closest first,
+/// each rounding updating all unrounded ones exactly through the integer block of the inverse
+/// (no refactorization per rounding). Triangles whose map is flipped or degenerate are
+/// stiffened (w_f ×= stiffening, neighbours too) and the map re-solved with the integers kept.
+/// V: #V×3, F: #F×3. Result: per-corner (u, v); across every seam edge the two sides agree up to
+/// a rotation by k·π/2 and an integer translation; singular vertices sit on integer points.
+/// \pre a clean, connected, oriented 2-manifold.
+/// \throw InputError as cross_field, for a theta that is not #F finite values, or a target edge
+///        length that is not finite; SolverError if CHOLMOD fails; Cancelled from `progress`.
+/// Complexity: one sparse factorization and one solve per integer variable (blocked), one
+/// factorization per repair round, O(N³) for the greedy rounding of N integer variables.
+MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta, const MiqOptions& options = {},
+              const Progress& progress = {});
+
+}  // namespace meshsmith::quadrangulation

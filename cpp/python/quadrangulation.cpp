@@ -1,0 +1,133 @@
+// Bindings of the quadrangulation chapter (§5.2.2): cross fields, singularities, the cut graph, MIQ.
+#include "bindings.h"
+#include "convert.h"
+
+#include <meshsmith/quadrangulation/cross_field.h>
+#include <meshsmith/quadrangulation/cut_graph.h>
+#include <meshsmith/quadrangulation/miq.h>
+
+#include <string>
+#include <vector>
+
+namespace meshsmith::python {
+namespace {
+
+using namespace meshsmith::quadrangulation;
+
+Eigen::VectorXd as_angles(const py::object& theta) {
+  const RealArray array = as_real_vector(theta, "field");
+  return Eigen::Map<const Eigen::VectorXd>(array.data(), array.shape(0));
+}
+
+py::array_t<std::int64_t> int64_vector(const std::vector<int>& values) {
+  return indices_to_numpy(Eigen::Map<const Eigen::VectorXi>(values.data(), static_cast<Eigen::Index>(values.size())))
+      .attr("reshape")(-1);
+}
+
+py::dict field_edges_dict(const FieldEdges& edges) {
+  py::dict out;
+  out["edges"] = indices_to_numpy(edges.edges);
+  out["edge_faces"] = indices_to_numpy(edges.faces);
+  out["connection"] = to_numpy(Eigen::VectorXd(edges.connection));
+  out["period_jumps"] = indices_to_numpy(edges.period_jumps).attr("reshape")(-1);
+  return out;
+}
+
+py::dict cut_dict(FieldCut cut) {
+  py::dict out;
+  out["V"] = to_numpy(std::move(cut.cut.V));
+  out["F"] = indices_to_numpy(cut.cut.F);
+  out["vertex_origin"] = indices_to_numpy(cut.cut.vertex_origin).attr("reshape")(-1);
+  out["seam_edges"] = indices_to_numpy(cut.cut.seam_edges);
+  out["singular_vertices"] = int64_vector(cut.singularities.vertices);
+  out["singular_indices"] = int64_vector(cut.singularities.indices);
+  out["combed_theta"] = to_numpy(std::move(cut.combed_theta));
+  out["seam_jumps"] = indices_to_numpy(cut.seam_jumps).attr("reshape")(-1);
+  return out;
+}
+
+}  // namespace
+
+void bind_quadrangulation(py::module_& m) {
+  m.def("cross_field", [](const py::object& V, const py::object& F, const std::string& align, double sharp_angle,
+                          const py::object& constraint_faces, const py::object& constraint_directions,
+                          double curvature_weight, const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    CrossFieldOptions options;
+    options.align = parse_choice<FieldAlignment>(align, "align", {{"curvature", FieldAlignment::curvature},
+                                                                  {"smooth", FieldAlignment::smooth},
+                                                                  {"boundary", FieldAlignment::boundary}});
+    options.sharp_angle_degrees = sharp_angle;
+    options.curvature_weight = curvature_weight;
+    if (!constraint_faces.is_none()) {
+      const IndexArray faces = as_index_vector(constraint_faces, "constraints (faces)");
+      options.constraint_faces.assign(faces.data(), faces.data() + faces.shape(0));
+      const RealArray directions = as_real_matrix(constraint_directions, "constraints (directions)", 3);
+      options.constraint_directions = map_vertices(directions);
+    }
+    const Progress progress = make_progress(callback);
+    CrossField field = without_gil([&] { return cross_field(mesh.V(), mesh.F(), options, progress); });
+    py::dict out = field_edges_dict(field.edges);
+    out["theta"] = to_numpy(std::move(field.theta));
+    out["directions"] = to_numpy(std::move(field.directions));
+    out["constrained_faces"] = field.constrained_faces;
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("align") = "curvature", py::arg("sharp_angle") = 0.0,
+     py::arg("constraint_faces") = py::none(), py::arg("constraint_directions") = py::none(),
+     py::arg("curvature_weight") = 0.01, py::arg("progress") = py::none(),
+     "A cross field (§5.2.2 step 1); see meshsmith.quadrangulation.cross_field.");
+
+  m.def("field_angles", [](const py::object& V, const py::object& F, const py::object& directions) {
+    const MeshArguments mesh(V, F);
+    const RealArray d = as_real_matrix(directions, "field", 3);
+    return to_numpy(without_gil([&] { return field_angles(mesh.V(), mesh.F(), map_vertices(d)); }));
+  }, py::arg("V"), py::arg("F"), py::arg("directions"));
+
+  m.def("field_edges", [](const py::object& V, const py::object& F, const py::object& theta) {
+    const MeshArguments mesh(V, F);
+    const Eigen::VectorXd angles = as_angles(theta);
+    return field_edges_dict(without_gil([&] { return field_edges(mesh.V(), mesh.F(), angles); }));
+  }, py::arg("V"), py::arg("F"), py::arg("theta"));
+
+  m.def("singularities", [](const py::object& V, const py::object& F, const py::object& theta) {
+    const MeshArguments mesh(V, F);
+    const Eigen::VectorXd angles = as_angles(theta);
+    const Singularities found = without_gil([&] { return singularities(mesh.V(), mesh.F(), angles); });
+    return py::make_tuple(int64_vector(found.vertices), int64_vector(found.indices));
+  }, py::arg("V"), py::arg("F"), py::arg("theta"));
+
+  m.def("cut_graph", [](const py::object& V, const py::object& F, const py::object& theta) {
+    const MeshArguments mesh(V, F);
+    const Eigen::VectorXd angles = as_angles(theta);
+    return cut_dict(without_gil([&] { return cut_graph(mesh.V(), mesh.F(), angles); }));
+  }, py::arg("V"), py::arg("F"), py::arg("theta"));
+
+  m.def("miq", [](const py::object& V, const py::object& F, const py::object& theta, double target_edge_length,
+                  bool round_singularities, bool round_translations, const py::object& repair_iterations,
+                  double stiffening, const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    const Eigen::VectorXd angles = as_angles(theta);
+    MiqOptions options;
+    options.target_edge_length = target_edge_length;
+    options.round_singularities = round_singularities;
+    options.round_translations = round_translations;
+    options.repair_iterations = integer_argument<int>(repair_iterations, "repair_iterations", 0, 1000);
+    options.stiffening = stiffening;
+    const Progress progress = make_progress(callback);
+    MiqResult result = without_gil([&] { return miq(mesh.V(), mesh.F(), angles, options, progress); });
+    py::dict out;
+    out["uv"] = to_numpy(std::move(result.uv)).attr("reshape")(-1, 3, 2);
+    out["flipped_before"] = result.flipped_before;
+    out["flipped_after"] = result.flipped_after;
+    out["integer_variables"] = result.integer_variables;
+    out["rounding_residual"] = result.rounding_residual;
+    out["repair_rounds"] = result.repair_rounds;
+    out["cut"] = cut_dict(std::move(result.cut));
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("target_edge_length") = 0.0,
+     py::arg("round_singularities") = true, py::arg("round_translations") = true, py::arg("repair_iterations") = 10,
+     py::arg("stiffening") = 5.0, py::arg("progress") = py::none(),
+     "Mixed-integer quadrangulation parametrization (§5.2.2 step 3); see meshsmith.quadrangulation.miq.");
+}
+
+}  // namespace meshsmith::python

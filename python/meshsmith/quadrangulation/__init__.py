@@ -1,0 +1,19 @@
+"""Quadrangulation chapter (curriculum §5.2.2): cross fields and their singularities, cutting a
+surface into a disk through them, the mixed-integer (MIQ) seamless parametrization, the quad
+extraction that reads it, and quad-mesh quality.
+
+Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3), quads ``Q`` int64 (k, 4). Bad input
+raises :class:`meshsmith.InputError`.
+
+Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``.
+"""
+from .cross_field import CrossField, Singularities, cross_field, field_angles, singularities
+from .cut_graph import FieldCut, cut_graph
+from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
+from .miq import MiqResult, miq
+from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
+from .quality import QuadQuality, quad_quality
+
+__all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldCut",
+           "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
+           "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate"]

@@ -1,0 +1,164 @@
+"""Cross fields and singularities (§5.2.2 step 1): Poincaré–Hopf on closed meshes of genus 0, 1
+and 4 and on a disk, curvature and boundary alignment against analytic directions, hard
+constraints, period jumps by their definition, and bad input."""
+import numpy as np
+import pytest
+
+import meshsmith
+from meshsmith import datasets, io
+from meshsmith.quadrangulation import cross_field, field_angles, singularities
+from meshsmith.topology import euler_characteristic
+
+QUARTER = np.pi / 2
+
+
+def residual(x):
+    """x reduced by multiples of π/2 into [−π/4, π/4)."""
+    return x - QUARTER * np.floor((x + QUARTER / 2) / QUARTER)
+
+
+def cross_angle_error(directions, reference, normals):
+    """Per face, the angle between the cross `directions` and the nearest of `reference`'s four turns."""
+    reference = reference - (reference * normals).sum(1)[:, None] * normals
+    reference /= np.linalg.norm(reference, axis=1)[:, None]
+    cosine = (directions * reference).sum(1)
+    sine = (np.cross(reference, directions) * normals).sum(1)
+    return np.abs(residual(np.arctan2(sine, cosine)))
+
+
+def face_normals(V, F):
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+@pytest.mark.parametrize("align", ["curvature", "smooth"])
+def test_sphere_indices_sum_to_eight_quarter_turns(align):
+    V, F = datasets.icosphere(3)
+    field = cross_field(V, F, align=align)
+    vertices, indices = singularities(V, F, field)
+    assert indices.sum() == 4 * euler_characteristic(F) == 8
+    assert np.all(indices == 1)  # the smoothest cross field on a sphere has eight +1/4 singularities
+    assert len(vertices) == 8
+    assert np.allclose(np.linalg.norm(field.directions, axis=1), 1)
+
+
+def test_torus_curvature_field_follows_the_parallels_and_has_no_singularity():
+    V, F = datasets.torus(n_major=48, n_minor=16)
+    assert len(singularities(V, F, cross_field(V, F)).vertices) == 0  # the default, weak alignment
+    field = cross_field(V, F, align="curvature", curvature_weight=1.0)
+    vertices, indices = singularities(V, F, field)
+    assert len(vertices) == 0 and indices.sum() == 0
+    centroids = V[F].mean(1)
+    parallel = np.stack([-centroids[:, 1], centroids[:, 0], np.zeros(len(F))], axis=1)
+    error = cross_angle_error(field.directions, parallel, face_normals(V, F))
+    # the principal directions estimated on this coarse torus are off by 1.2° (0.35° at twice
+    # the resolution); the per-face cross adds the turn of the parallels across a face
+    assert np.degrees(error.max()) < 3.0 and np.degrees(error.mean()) < 1.5
+
+
+def test_torus_smooth_field_sums_to_zero():
+    V, F = datasets.torus(n_major=40, n_minor=12)
+    _, indices = singularities(V, F, cross_field(V, F, align="smooth"))
+    assert indices.sum() == 0
+
+
+def test_disk_boundary_field_satisfies_poincare_hopf_with_boundary():
+    V, F = datasets.disk(n_rings=10, n_segments=48)
+    field = cross_field(V, F, align="boundary")
+    _, indices = singularities(V, F, field)
+    assert indices.sum() == 4 * euler_characteristic(F) == 4
+    assert field.constrained_faces > 0
+
+
+def test_square_grid_boundary_field_is_the_constant_cross():
+    V, F = datasets.grid(12, 12)
+    field = cross_field(V, F, align="boundary")
+    x_axis = np.tile([1.0, 0.0, 0.0], (len(F), 1))
+    assert np.degrees(cross_angle_error(field.directions, x_axis, face_normals(V, F)).max()) < 1e-6
+    vertices, indices = singularities(V, F, field)
+    assert indices.sum() == 4 and len(vertices) == 4 and np.all(indices == 1)  # the four corners
+
+
+def test_cube_corners_are_the_eight_singularities():
+    V, F = datasets.cube(8)
+    field = cross_field(V, F, align="smooth", sharp_angle=45)
+    vertices, indices = singularities(V, F, field)
+    corners = np.flatnonzero(np.all(np.isclose(np.abs(V), np.abs(V).max()), axis=1))
+    assert sorted(vertices) == sorted(corners) and np.all(indices == 1)
+    # faces on a cube edge follow it exactly
+    axes = np.eye(3)
+    along = np.abs(field.directions @ axes.T).max(1)
+    assert np.allclose(along, 1, atol=1e-9)
+
+
+def test_user_constraints_are_kept_exactly():
+    V, F = datasets.torus(n_major=32, n_minor=12)
+    faces = np.array([0, 100, 200])
+    normals = face_normals(V, F)
+    direction = np.cross(normals[faces], [0.3, 0.4, 0.5])
+    field = cross_field(V, F, align="smooth", constraints=(faces, direction))
+    assert np.degrees(cross_angle_error(field.directions[faces], direction, normals[faces]).max()) < 1e-9
+    assert field.constrained_faces == 3
+
+
+def test_period_jumps_match_their_definition_and_directions_round_trip():
+    V, F = datasets.icosphere(2)
+    field = cross_field(V, F)
+    interior = field.edge_faces[:, 1] >= 0
+    f, g = field.edge_faces[interior].T
+    x = field.theta[g] - field.theta[f] - field.connection[interior] - QUARTER * field.period_jumps[interior]
+    x -= 2 * np.pi * np.round(x / (2 * np.pi))  # jumps are given mod 4
+    assert np.all((x >= -np.pi / 4 - 1e-12) & (x < np.pi / 4 + 1e-12))
+    assert np.allclose(field_angles(V, F, field.directions), field.theta, atol=1e-12)
+    assert np.array_equal(singularities(V, F, field.directions).vertices, singularities(V, F, field).vertices)
+
+
+@pytest.mark.parametrize("name, genus", [("spot.obj", 0), ("rocker-arm.obj", 1), ("fertility.off", 4),
+                                         ("bumpy-cube.obj", 0), ("kitten.off", 1)])
+def test_shared_meshes_satisfy_poincare_hopf(data_dir, name, genus):
+    V, F = io.read_mesh(data_dir / name)
+    field = cross_field(V, F, align="curvature")
+    vertices, indices = singularities(V, F, field)
+    assert indices.sum() == 4 * (2 - 2 * genus)
+    assert len(vertices) == len(np.unique(vertices))
+
+
+def test_non_manifold_input_names_meshsmith_clean(data_dir):
+    V, F = io.read_mesh(data_dir / "cubes_complex_edge.obj")
+    with pytest.raises(meshsmith.InputError, match="meshsmith clean"):
+        cross_field(V, F)
+
+
+def test_bad_fields_and_options_raise_input_error():
+    V, F = datasets.icosphere(1)
+    theta = np.zeros(len(F))
+    theta[3] = np.nan
+    with pytest.raises(meshsmith.InputError, match="NaN|finite"):
+        singularities(V, F, theta)
+    with pytest.raises(meshsmith.InputError, match="faces"):
+        singularities(V, F, np.zeros(len(F) - 1))
+    directions = np.tile([0.0, 0.0, 0.0], (len(F), 1))
+    with pytest.raises(meshsmith.InputError, match="zero or normal"):
+        singularities(V, F, directions)
+    with pytest.raises(meshsmith.InputError, match="align"):
+        cross_field(V, F, align="diagonal")
+    with pytest.raises(meshsmith.InputError, match="outside"):
+        cross_field(V, F, constraints=([len(F)], [[1.0, 0.0, 0.0]]))
+    with pytest.raises(meshsmith.InputError, match="sharp_angle"):
+        cross_field(V, F, sharp_angle=-3)
+    F2 = np.vstack([F, F[:1] + 0])  # a duplicated face: non-manifold edges
+    with pytest.raises(meshsmith.InputError):
+        cross_field(V, F2)
+
+
+@pytest.mark.parametrize("name", ["fertility.off", "rocker-arm.obj", "spot.obj"])
+def test_singularities_agree_with_libigl(data_dir, name):
+    igl = pytest.importorskip("igl")
+    V, F = io.read_mesh(data_dir / name)
+    F = F.astype(np.int64)
+    field = cross_field(V, F)
+    PD2 = np.cross(face_normals(V, F), field.directions)
+    is_singular, index = igl.find_cross_field_singularities(V, F, field.directions, PD2)
+    ours = singularities(V, F, field)
+    assert np.array_equal(ours.vertices, np.flatnonzero(is_singular))
+    assert np.array_equal(ours.indices % 4, index[ours.vertices])  # libigl gives the index mod 4
