@@ -67,6 +67,11 @@ def poly_file(tmp_path):
     return path
 
 
+def ball_grid() -> np.ndarray:
+    x = np.linspace(-1, 1, 9)
+    return np.sqrt(sum(c ** 2 for c in np.meshgrid(x, x, x, indexing="ij"))) - 0.7
+
+
 # name -> (function of tmp_path giving the result, the field names it unpacks as, in order)
 RESULTS = {
     "datasets.icosphere": (lambda tmp: datasets.icosphere(1), ["V", "F"]),
@@ -158,6 +163,8 @@ RESULTS = {
     "repair.clean": (lambda tmp: repair.clean(*sphere_with_unused_vertex()), ["V", "F", "report"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
+    "reconstruction.marching_cubes": (lambda tmp: meshsmith.reconstruction.marching_cubes(ball_grid()),
+                                      ["V", "F", "centre_vertices", "blocks", "evaluations"]),
 }
 
 

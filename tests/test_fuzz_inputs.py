@@ -69,6 +69,13 @@ GRID_V = _grid_V[:, :2].copy()                             # a planar triangulat
 _t = 2 * np.pi * np.arange(40) / 40
 CIRCLE = np.stack([np.cos(_t), 1.5 * np.sin(_t)], 1)       # dense samples of a closed curve
 CURVE = CIRCLE[::2].copy()
+_x = np.linspace(-1, 1, 6)
+BALL_VALUES = np.sqrt(sum(c ** 2 for c in np.meshgrid(_x, _x, _x, indexing="ij"))) - 0.7  # a 6³ grid
+
+
+def ball_field(P: np.ndarray) -> np.ndarray:
+    """The signed distance to a ball of radius 2 (a field for marching_cubes_sparse)."""
+    return np.linalg.norm(P, axis=1) - 2.0
 
 
 def _disk_angles() -> np.ndarray:
@@ -186,6 +193,9 @@ VALID = {
                                                "indices": np.array([0, 5, 41])},
     "repair.ReferencedMesh.from_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                                  "indices": np.array([0, 6, 42])},
+    "reconstruction.marching_cubes": {"values": BALL_VALUES},
+    "reconstruction.marching_cubes_sparse": {"field": ball_field, "shape": np.array([6, 6, 6]),
+                                             "seeds": np.array([[2.0, 0.0, 0.0]])},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},

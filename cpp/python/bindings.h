@@ -20,4 +20,5 @@ void bind_decimation_progressive(pybind11::module_& m);
 void bind_parametrization_maps(pybind11::module_& m);     // module.cpp calls both on "parametrization"
 void bind_parametrization_abf(pybind11::module_& m);
 void bind_repair(pybind11::module_& m);
+void bind_reconstruction(pybind11::module_& m);
 }  // namespace meshsmith::python

@@ -35,4 +35,6 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_parametrization_abf(parametrization);
   auto repair = m.def_submodule("repair");
   meshsmith::python::bind_repair(repair);
+  auto reconstruction = m.def_submodule("reconstruction");
+  meshsmith::python::bind_reconstruction(reconstruction);
 }

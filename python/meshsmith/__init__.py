@@ -14,6 +14,7 @@ from . import (
                io,
                parametrization,
                points,
+               reconstruction,
                render,
                repair,
                tessellation,
@@ -24,5 +25,6 @@ from ._core import Cancelled, InputError, SolverError
 __version__ = core.version()
 
 __all__ = ["InputError", "SolverError", "Cancelled", "core", "io", "topology", "geometry", "curves", "points", "render", "tessellation", "repair", "decimation", "parametrization",
+           "reconstruction",
            "datasets",
            "__version__"]

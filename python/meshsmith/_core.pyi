@@ -19,5 +19,6 @@ points: Any
 tessellation: Any
 decimation: Any
 parametrization: Any
+reconstruction: Any
 
 def __getattr__(name: str) -> Any: ...
