@@ -165,6 +165,16 @@ RESULTS = {
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
     "reconstruction.marching_cubes": (lambda tmp: meshsmith.reconstruction.marching_cubes(ball_grid()),
                                       ["V", "F", "centre_vertices", "blocks", "evaluations"]),
+    "reconstruction.mesh_sdf": (lambda tmp: meshsmith.reconstruction.mesh_sdf(*datasets.icosphere(1), np.eye(3)),
+                                ["distance", "face", "point", "winding"]),
+    "reconstruction.sample_grid": (lambda tmp: meshsmith.reconstruction.sample_grid([[0, 0, 0], [1, 1, 1]], 3),
+                                   ["points", "shape", "origin", "spacing"]),
+    "reconstruction.poisson": (lambda tmp: meshsmith.reconstruction.poisson(*datasets.sphere_points(300), depth=4),
+                               ["V", "F", "density", "iso", "level_depths", "level_unknowns", "level_iterations",
+                                "level_residuals"]),
+    "reconstruction.trim_by_density": (
+        lambda tmp: meshsmith.reconstruction.trim_by_density(*datasets.icosphere(1), np.arange(42.0)),
+        ["V", "F", "vertex_map"]),
 }
 
 

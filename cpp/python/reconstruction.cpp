@@ -5,6 +5,8 @@
 
 #include <meshsmith/core/errors.h>
 #include <meshsmith/reconstruction/marching_cubes.h>
+#include <meshsmith/reconstruction/poisson.h>
+#include <meshsmith/reconstruction/signed_distance.h>
 
 #include <string>
 
@@ -79,6 +81,84 @@ void bind_reconstruction(py::module_& m) {
     }));
   }, py::arg("field"), py::arg("shape"), py::arg("origin"), py::arg("spacing"), py::arg("seeds"), py::arg("iso"),
      py::arg("block_size"), py::arg("dilation"), py::arg("progress") = py::none());
+
+  m.def("tangent_plane_sdf", [](const py::object& P, const py::object& N, const py::object& Q, const py::object& k_in,
+                                const py::object& callback) {
+    auto samples = as_real_matrix(P, "P", 3);
+    auto normals = as_real_matrix(N, "N", 3);
+    auto queries = as_real_matrix(Q, "Q", 3);
+    const int k = integer_argument<int>(k_in, "k", 1);
+    Progress progress = make_progress(callback);
+    return to_numpy(without_gil([&] {
+      return reconstruction::tangent_plane_sdf(map_vertices(samples), map_vertices(normals), map_vertices(queries), k,
+                                               progress);
+    }));
+  }, py::arg("P"), py::arg("N"), py::arg("Q"), py::arg("k"), py::arg("progress") = py::none());
+
+  m.def("winding_number", [](const py::object& V, const py::object& F, const py::object& Q, double accuracy,
+                             const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    auto queries = as_real_matrix(Q, "Q", 3);
+    Progress progress = make_progress(callback);
+    return to_numpy(without_gil([&] {
+      const reconstruction::WindingNumber winding(mesh.V(), mesh.F(), accuracy);
+      return winding.at(map_vertices(queries), progress);
+    }));
+  }, py::arg("V"), py::arg("F"), py::arg("Q"), py::arg("accuracy"), py::arg("progress") = py::none());
+
+  m.def("mesh_sdf", [](const py::object& V, const py::object& F, const py::object& Q, const py::object& callback) {
+    const MeshArguments mesh(V, F);
+    auto queries = as_real_matrix(Q, "Q", 3);
+    Progress progress = make_progress(callback);
+    auto result = without_gil([&] { return reconstruction::mesh_sdf(mesh.V(), mesh.F(), map_vertices(queries), progress); });
+    Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> face = result.face.cast<std::int64_t>();
+    py::dict out;
+    out["distance"] = to_numpy(std::move(result.distance));
+    out["face"] = to_numpy(std::move(face));
+    out["point"] = to_numpy(std::move(result.point));
+    out["winding"] = to_numpy(std::move(result.winding));
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("Q"), py::arg("progress") = py::none());
+
+  m.def("poisson", [](const py::object& P, const py::object& N, const py::object& depth, double screening,
+                      double samples_per_node, double scale, const py::object& coarse_depth, const py::object& band,
+                      const py::object& max_iterations, double tolerance, const py::object& callback) {
+    auto samples = as_real_matrix(P, "P", 3);
+    auto normals = as_real_matrix(N, "N", 3);
+    reconstruction::PoissonOptions options;
+    options.depth = integer_argument<int>(depth, "depth", 2, 10);
+    options.screening = screening;
+    options.samples_per_node = samples_per_node;
+    options.scale = scale;
+    options.coarse_depth = integer_argument<int>(coarse_depth, "coarse_depth", 2, 10);
+    options.band = integer_argument<int>(band, "band", 1, 16);
+    options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 1, 1 << 20);
+    options.tolerance = tolerance;
+    Progress progress = make_progress(callback);
+    auto result = without_gil([&] {
+      return reconstruction::poisson(map_vertices(samples), map_vertices(normals), options, progress);
+    });
+    const auto count = static_cast<Eigen::Index>(result.levels.size());
+    Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> depths(count), unknowns(count), iterations(count);
+    Eigen::VectorXd residuals(count);
+    for (Eigen::Index l = 0; l < count; ++l) {
+      const auto& level = result.levels[static_cast<std::size_t>(l)];
+      depths[l] = level.depth, unknowns[l] = level.unknowns, iterations[l] = level.iterations;
+      residuals[l] = level.residual;
+    }
+    py::dict out;
+    out["V"] = to_numpy(std::move(result.V));
+    out["F"] = indices_to_numpy(result.F);
+    out["density"] = to_numpy(std::move(result.density));
+    out["iso"] = result.iso;
+    out["level_depths"] = to_numpy(std::move(depths));
+    out["level_unknowns"] = to_numpy(std::move(unknowns));
+    out["level_iterations"] = to_numpy(std::move(iterations));
+    out["level_residuals"] = to_numpy(std::move(residuals));
+    return out;
+  }, py::arg("P"), py::arg("N"), py::arg("depth"), py::arg("screening"), py::arg("samples_per_node"), py::arg("scale"),
+     py::arg("coarse_depth"), py::arg("band"), py::arg("max_iterations"), py::arg("tolerance"),
+     py::arg("progress") = py::none());
 }
 
 }  // namespace meshsmith::python
