@@ -122,7 +122,7 @@ void bind_reconstruction(py::module_& m) {
 
   m.def("poisson", [](const py::object& P, const py::object& N, const py::object& depth, double screening,
                       double samples_per_node, double scale, const py::object& coarse_depth, const py::object& band,
-                      const py::object& max_iterations, double tolerance, const py::object& callback) {
+                      const py::object& refinement, const py::object& max_iterations, double tolerance, const py::object& callback) {
     auto samples = as_real_matrix(P, "P", 3);
     auto normals = as_real_matrix(N, "N", 3);
     reconstruction::PoissonOptions options;
@@ -132,6 +132,7 @@ void bind_reconstruction(py::module_& m) {
     options.scale = scale;
     options.coarse_depth = integer_argument<int>(coarse_depth, "coarse_depth", 2, 10);
     options.band = integer_argument<int>(band, "band", 1, 16);
+    options.refinement = integer_argument<int>(refinement, "refinement", 0, 10);
     options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 1, 1 << 20);
     options.tolerance = tolerance;
     Progress progress = make_progress(callback);
@@ -157,7 +158,7 @@ void bind_reconstruction(py::module_& m) {
     out["level_residuals"] = to_numpy(std::move(residuals));
     return out;
   }, py::arg("P"), py::arg("N"), py::arg("depth"), py::arg("screening"), py::arg("samples_per_node"), py::arg("scale"),
-     py::arg("coarse_depth"), py::arg("band"), py::arg("max_iterations"), py::arg("tolerance"),
+     py::arg("coarse_depth"), py::arg("band"), py::arg("refinement"), py::arg("max_iterations"), py::arg("tolerance"),
      py::arg("progress") = py::none());
 }
 

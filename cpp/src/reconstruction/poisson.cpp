@@ -186,6 +186,8 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     throw InputError("scale = " + std::to_string(options.scale) + ": expected a finite number >= 1");
   if (options.band < 1 || options.band > 16)
     throw InputError("band = " + std::to_string(options.band) + ": expected an integer in [1, 16]");
+  if (options.refinement < 0 || options.refinement > 10)
+    throw InputError("refinement = " + std::to_string(options.refinement) + ": expected an integer in [0, 10]");
   if (options.max_iterations < 1)
     throw InputError("max_iterations = " + std::to_string(options.max_iterations) + ": expected an integer >= 1");
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
@@ -224,7 +226,8 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     for (int a = 0; a < 3; ++a) key = key * n + std::min<Int>(n - 1, static_cast<Int>(X(s, a) * static_cast<double>(n)));
     return key;
   };
-  // Each sample's depth: the deepest level whose cell around it holds >= samples_per_node samples.
+  // Each sample's depth: the deepest level where the support of the node nearest to it (the 8
+  // cells around that node) holds >= samples_per_node samples.
   std::vector<int> sample_depth(static_cast<std::size_t>(m), coarsest);
   std::vector<double> sample_area(static_cast<std::size_t>(m), 0.0);
   {
@@ -234,12 +237,28 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
       for (Int s = 0; s < m; ++s) keys[static_cast<std::size_t>(s)] = cell_key(s, d);
       std::vector<Int> sorted = keys;
       std::sort(sorted.begin(), sorted.end());
+      // Samples in the support of the node nearest to each sample (its 8 incident cells).
       auto& count = counts[static_cast<std::size_t>(d - coarsest)];
       count.resize(static_cast<std::size_t>(m));
-      for (Int s = 0; s < m; ++s) {
-        const auto range = std::equal_range(sorted.begin(), sorted.end(), keys[static_cast<std::size_t>(s)]);
-        count[static_cast<std::size_t>(s)] = range.second - range.first;
-      }
+      const Int n = Int(1) << d;
+      parallel_rows(m, [&](Int s) {
+        Int node[3];
+        for (int a = 0; a < 3; ++a) node[a] = static_cast<Int>(std::lround(X(s, a) * static_cast<double>(n)));
+        Int total = 0;
+        for (int c = 0; c < 8; ++c) {
+          Int cell[3];
+          bool inside = true;
+          for (int a = 0; a < 3; ++a) {
+            cell[a] = node[a] - ((c >> a) & 1);
+            inside = inside && cell[a] >= 0 && cell[a] < n;
+          }
+          if (!inside) continue;
+          const Int key = (cell[0] * n + cell[1]) * n + cell[2];
+          const auto range = std::equal_range(sorted.begin(), sorted.end(), key);
+          total += range.second - range.first;
+        }
+        count[static_cast<std::size_t>(s)] = total;
+      });
     }
     for (Int s = 0; s < m; ++s) {
       int depth = coarsest;
@@ -250,8 +269,10 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
         }
       sample_depth[static_cast<std::size_t>(s)] = depth;
       const double h = std::ldexp(1.0, -depth);
+      // The sample's share of the surface in the node's support (about 4 cells of area h² for a
+      // surface through it).
       sample_area[static_cast<std::size_t>(s)] =
-          h * h / static_cast<double>(counts[static_cast<std::size_t>(depth - coarsest)][static_cast<std::size_t>(s)]);
+          4.0 * h * h / static_cast<double>(std::max<Int>(1, counts[static_cast<std::size_t>(depth - coarsest)][static_cast<std::size_t>(s)]));
     }
   }
 
@@ -269,12 +290,15 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     level.blocks_per_axis = level.n / B;
     const Int nb = level.blocks_per_axis;
     // Band blocks: all of them on the coarsest level; else the blocks within band + 1 cells of a
-    // sample (the part of V beyond them acts through the coarser solution, the boundary values).
+    // sample whose depth + refinement is at least this level's (the adaptivity of an octree: where samples
+    // are sparser, χ is the coarser level's; the part of V beyond the band acts through the
+    // coarser solution, as boundary values).
     if (l == 0) {
       level.block_keys.resize(static_cast<std::size_t>(nb * nb * nb));
       for (Int k = 0; k < nb * nb * nb; ++k) level.block_keys[static_cast<std::size_t>(k)] = k;
     } else {
       for (Int s = 0; s < m; ++s) {
+        if (sample_depth[static_cast<std::size_t>(s)] + options.band_refinement < level.depth) continue;  // not refined here
         const double reach = (options.band + 1) * level.h;
         Int lo[3], hi[3];
         for (int a = 0; a < 3; ++a) {
@@ -439,9 +463,10 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
           }
       rhs[r] = b;
     });
-    // Screening: α 2^d a_s φ_i(p_s) φ_j(p_s), sample by sample.
+    // Screening: α 2^d a_s φ_i(p_s) φ_j(p_s), sample by sample (the samples refined to this level).
     const double alpha = options.screening * static_cast<double>(level.n);
     for (Int s = 0; s < m; ++s) {
+      if (sample_depth[static_cast<std::size_t>(s)] + options.refinement < level.depth) continue;
       const double y[3] = {X(s, 0), X(s, 1), X(s, 2)};
       double w[8];
       int ids[8];

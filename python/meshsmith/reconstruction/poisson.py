@@ -46,7 +46,7 @@ class TrimmedMesh(NamedTuple):
 
 
 def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.0, samples_per_node: float = 1.5,
-            scale: float = 1.1, coarse_depth: int = 5, band: int = 2, max_iterations: int = 300,
+            scale: float = 1.1, coarse_depth: int = 5, band: int = 2, refinement: int = 10, max_iterations: int = 300,
             tolerance: float = 1e-4, progress: ProgressCallback = None) -> PoissonMesh:
     """Screened Poisson reconstruction (Kazhdan & Hoppe 2013) of a closed surface from oriented samples.
 
@@ -55,9 +55,10 @@ def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.
     field, screened towards the iso-value at the samples with weight `screening`) with trilinear
     elements on grids of 2^d cells along the bounding cube's edge (`scale` times the samples'
     largest extent): the full grid at `coarse_depth`, then narrow bands (`band` cells around the
-    normal field) up to `depth`, each solved by conjugate gradients from the coarser solution. A
-    sample is splatted at the deepest level whose cell around it holds `samples_per_node`
-    samples. The surface χ = mean χ(samples) is extracted by marching cubes on the finest grid,
+    samples) up to `depth`, each solved by conjugate gradients from the coarser solution. A
+    sample is splatted at its depth, the deepest level where the support of its nearest node (8
+    cells) holds `samples_per_node` samples, and screens χ on the levels up to `refinement`
+    deeper than that (10: all). The surface χ = mean χ(samples) is extracted by marching cubes on the finest grid,
     following it from the samples: closed and edge-manifold (where it stays inside the cube).
     The result does not depend on the thread count.
 
@@ -66,7 +67,7 @@ def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.
     (depth in [2, 10]). Time and memory grow as 4^depth (the band), not 8^depth.
     """
     return PoissonMesh(**_core.poisson(P, N, depth, screening, samples_per_node, scale, coarse_depth, band,
-                                       max_iterations, tolerance, progress))
+                                       refinement, max_iterations, tolerance, progress))
 
 
 def trim_by_density(V: ArrayLike, F: ArrayLike, density: ArrayLike, *, quantile: float = 0.05,

@@ -5,12 +5,13 @@
 ///
 /// The indicator χ minimises ∫ |∇χ − V|² + α 2^d Σ_s a_s χ(p_s)² with trilinear (Q1) elements,
 /// where V is the samples' outward normals a_s n_s splatted trilinearly at each sample's depth
-/// (the deepest level whose cell around the sample holds >= samples_per_node samples; a_s is the
-/// sample's share of that cell's area). Level `coarse_depth` is the full (2^d + 1)³ grid over the
+/// (the deepest level where the support of the node nearest to the sample, its 8 cells, holds
+/// >= samples_per_node samples; a_s is the sample's share of the surface area in that support). Level `coarse_depth` is the full (2^d + 1)³ grid over the
 /// bounding cube (natural boundary conditions); each finer level d up to `depth` keeps only the
-/// blocks of 4³ cells within the support of V plus `band` cells, takes the coarser solution as
-/// its boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate
-/// gradients (a cascadic scheme: an honest regular-grid-in-a-band version of the adaptive octree).
+/// blocks of 4³ cells within band + 1 cells of the samples whose depth + refinement >= d (so, as in an
+/// adaptive octree, sparse regions stop at a coarser level), takes the coarser solution as its
+/// boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate gradients
+/// (a cascadic scheme: regular grids restricted to narrow bands standing in for the octree).
 /// χ is thereby defined everywhere (the finest band where it exists, coarser levels elsewhere;
 /// continuous because the Q1 spaces are nested), and its iso-surface at the mean of χ over the
 /// samples is extracted by marching_cubes_sparse on the finest grid, seeded at the samples: the
@@ -27,10 +28,12 @@ namespace meshsmith::reconstruction {
 struct PoissonOptions {
   int depth = 8;                  ///< finest level: 2^depth cells along the bounding cube's edge, in [2, 10]
   double screening = 4.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0)
-  double samples_per_node = 1.5;  ///< samples a cell must hold for a sample to be splatted at its level (> 0)
+  double samples_per_node = 1.5;  ///< samples a node's support must hold for a sample to be splatted at its level (> 0)
   double scale = 1.1;             ///< bounding cube edge ÷ the samples' largest extent (>= 1)
   int coarse_depth = 5;           ///< the level solved on the full grid (clamped to [2, depth])
-  int band = 2;                   ///< cells kept around the normal field's support on finer levels (>= 1)
+  int band = 2;                   ///< cells kept around the samples on finer levels, in [1, 16]
+  int refinement = 10;            ///< levels beyond a sample's depth where it screens χ, in [0, 10] (10: all)
+  int band_refinement = 10;       ///< levels beyond a sample's depth the bands reach (10: all)
   int max_iterations = 300;       ///< conjugate-gradient iterations per level (>= 1)
   double tolerance = 1e-4;        ///< relative residual that ends a level's iterations (> 0)
 };
