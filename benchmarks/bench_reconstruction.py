@@ -1,7 +1,7 @@
 """Reconstruction benchmarks: marching cubes, mesh signed distance, screened Poisson.
 
 Marching cubes of a capped gyroid on a 256³ grid (96³ quick) beside libigl's and scikit-image's;
-the winding-number signed distance of 200k queries (20k quick) to the 70k-face bunny beside
+the winding-number signed distance of 50k queries (10k quick) to the 70k-face bunny beside
 libigl's signed_distance (exact winding number) and its fast winding number; screened Poisson on
 pmp-bunny.xyz (35k points with normals) at depth 8 (7 quick) beside Open3D's
 create_from_point_cloud_poisson and pymeshlab's screened Poisson (Kazhdan's code) at the same
@@ -10,7 +10,7 @@ bounding-box diagonal.
 
 Result checks: the marching-cubes vertex set equals libigl's (count, and every vertex within 1e-12
 of one of libigl's); |signed distance| equals libigl's to 1e-12, the sign agrees wherever the
-exact winding number is 5e-3 away from 1/2; Poisson's output is closed and edge-manifold, its mean
+exact winding number is 5e-3 away from 1/2 (on the first 5000 queries); Poisson's output is closed and edge-manifold, its mean
 distance ÷ diagonal no worse than 1.25 × the better peer's (the ratio is the check's value).
 """
 from __future__ import annotations
@@ -71,7 +71,7 @@ def signed_distance_case() -> None:
         return
     V, F = io.read_mesh(data / "pmp-bunny.off")
     lo, hi = V.min(axis=0), V.max(axis=0)
-    q = size(200_000, 20_000)
+    q = size(50_000, 10_000)
     Q = np.random.default_rng(0).uniform(lo - 0.1 * (hi - lo), hi + 0.1 * (hi - lo), (q, 3))
     F64 = F.astype(np.int64)
     bench = Benchmark("reconstruction", f"signed distance (winding-number sign), {q // 1000}k queries to a 70k-face mesh",
@@ -85,8 +85,10 @@ def signed_distance_case() -> None:
     ours = bench.output("meshsmith")
     S = bench.output("libigl signed_distance (winding number)")[0]
     bench.check("max | |d| - |d_igl| |", np.abs(np.abs(ours.distance) - np.abs(S)).max(), 1e-12)
-    clear = np.abs(igl.winding_number(V, F64, Q) - 0.5) > 5e-3
-    bench.check("queries of the other sign (away from w = 1/2)", int((np.sign(ours.distance) != np.sign(S))[clear].sum()), 0)
+    few = slice(0, 5000)  # igl's exact winding number is O(#F) per query: the first 5000 queries
+    clear = np.abs(igl.winding_number(V, F64, Q[few]) - 0.5) > 5e-3
+    bench.check("of the first 5000 queries, those of the other sign (away from w = 1/2)",
+                int((np.sign(ours.distance[few]) != np.sign(S[few]))[clear].sum()), 0)
 
 
 def surface_errors(V, F, V_true, F_true, diagonal):

@@ -290,7 +290,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     level.blocks_per_axis = level.n / B;
     const Int nb = level.blocks_per_axis;
     // Band blocks: all of them on the coarsest level; else the blocks within band + 1 cells of a
-    // sample whose depth + refinement is at least this level's (the adaptivity of an octree: where samples
+    // sample whose depth + band_refinement is at least this level's (the adaptivity of an octree: where samples
     // are sparser, χ is the coarser level's; the part of V beyond the band acts through the
     // coarser solution, as boundary values).
     if (l == 0) {

@@ -40,6 +40,7 @@ from . import (
     io,
     parametrization,
     points,
+    reconstruction,
     render,
     repair,
     tessellation,
@@ -50,7 +51,8 @@ from .common import ArgumentParser, ProgressBar, UsageError, user_message
 __all__ = ["main", "build_parser", "ProgressBar", "CHAPTERS"]
 
 #: The chapters' command modules, in the order their commands appear in ``meshsmith --help``.
-CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, decimation, parametrization, demo)
+CHAPTERS = (topology, repair, io, render, geometry, points, tessellation, decimation, parametrization,
+            reconstruction, demo)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -14,14 +14,15 @@ from .decimation import stage_decimation
 from .geometry import stage_curvature
 from .io import stage_input
 from .parametrization import stage_parametrization
+from .reconstruction import stage_poisson
 from .render import stage_pictures
 from .repair import stage_clean
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
 
 #: Every chapter's stage, in pipeline order; a new chapter adds its stage here.
-STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_decimation,
-          stage_parametrization]
+STAGES = [stage_clean, stage_input, stage_pictures, stage_curvature, stage_tessellation, stage_crust, stage_poisson,
+          stage_decimation, stage_parametrization]
 
 
 def run_demo(out: Path | str, input_path: str | None = None, progress: ProgressCallback = None) -> Path:

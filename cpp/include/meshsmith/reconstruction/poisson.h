@@ -6,10 +6,12 @@
 /// The indicator χ minimises ∫ |∇χ − V|² + α 2^d Σ_s a_s χ(p_s)² with trilinear (Q1) elements,
 /// where V is the samples' outward normals a_s n_s splatted trilinearly at each sample's depth
 /// (the deepest level where the support of the node nearest to the sample, its 8 cells, holds
-/// >= samples_per_node samples; a_s is the sample's share of the surface area in that support). Level `coarse_depth` is the full (2^d + 1)³ grid over the
-/// bounding cube (natural boundary conditions); each finer level d up to `depth` keeps only the
-/// blocks of 4³ cells within band + 1 cells of the samples whose depth + refinement >= d (so, as in an
-/// adaptive octree, sparse regions stop at a coarser level), takes the coarser solution as its
+/// >= samples_per_node samples; a_s is the sample's share of the surface area in that support;
+/// the screening sums over the samples whose depth + refinement >= d, by default all). Level
+/// `coarse_depth` is the full (2^d + 1)³ grid over the bounding cube (natural boundary
+/// conditions); each finer level d up to `depth` keeps only the blocks of 4³ cells within
+/// band + 1 cells of the samples whose depth + band_refinement >= d (by default all; smaller
+/// values stop sparse regions at a coarser level, as an adaptive octree), takes the coarser solution as its
 /// boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate gradients
 /// (a cascadic scheme: regular grids restricted to narrow bands standing in for the octree).
 /// χ is thereby defined everywhere (the finest band where it exists, coarser levels elsewhere;
