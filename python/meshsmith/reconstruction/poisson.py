@@ -46,7 +46,7 @@ class TrimmedMesh(NamedTuple):
 
 
 def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.0, samples_per_node: float = 1.5,
-            scale: float = 1.1, coarse_depth: int = 5, band: int = 2, refinement: int = 10, max_iterations: int = 300,
+            scale: float = 1.1, coarse_depth: int = 5, band: int = 1, refinement: int = 10, max_iterations: int = 300,
             tolerance: float = 1e-4, progress: ProgressCallback = None) -> PoissonMesh:
     """Screened Poisson reconstruction (Kazhdan & Hoppe 2013) of a closed surface from oriented samples.
 

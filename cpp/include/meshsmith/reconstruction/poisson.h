@@ -9,7 +9,7 @@
 /// >= samples_per_node samples; a_s is the sample's share of the surface area in that support;
 /// the screening sums over the samples whose depth + refinement >= d, by default all). Level
 /// `coarse_depth` is the full (2^d + 1)³ grid over the bounding cube (natural boundary
-/// conditions); each finer level d up to `depth` keeps only the blocks of 4³ cells within
+/// conditions); each finer level d up to `depth` keeps only the blocks of 2³ cells within
 /// band + 1 cells of the samples whose depth + band_refinement >= d (by default all; smaller
 /// values stop sparse regions at a coarser level, as an adaptive octree), takes the coarser solution as its
 /// boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate gradients
@@ -33,7 +33,7 @@ struct PoissonOptions {
   double samples_per_node = 1.5;  ///< samples a node's support must hold for a sample to be splatted at its level (> 0)
   double scale = 1.1;             ///< bounding cube edge ÷ the samples' largest extent (>= 1)
   int coarse_depth = 5;           ///< the level solved on the full grid (clamped to [2, depth])
-  int band = 2;                   ///< cells kept around the samples on finer levels, in [1, 16]
+  int band = 1;                   ///< cells kept around the samples on finer levels, in [1, 16]
   int refinement = 10;            ///< levels beyond a sample's depth where it screens χ, in [0, 10] (10: all)
   int band_refinement = 10;       ///< levels beyond a sample's depth the bands reach (10: all)
   int max_iterations = 300;       ///< conjugate-gradient iterations per level (>= 1)
