@@ -24,7 +24,7 @@ def sphere_file(tmp_path):
 
 @pytest.mark.parametrize("command", [[], ["info"], ["convert"], ["render"], ["curvature"], ["normals"],
                                      ["triangulate"], ["voronoi"], ["crust"], ["power"], ["demo"],
-                                     ["decimate"], ["lod"], ["parametrize"]])
+                                     ["decimate"], ["lod"], ["parametrize"], ["reconstruct"]])
 def test_every_command_has_help(command):
     result = run(*command, "--help")
     assert result.returncode == 0 and "usage: meshsmith" in result.stdout
@@ -150,6 +150,9 @@ def test_demo_writes_a_report_whose_pictures_exist(tmp_path):
     assert figures["crust"]["3D crust: manifold"] is True
     assert figures["crust"]["3D crust: Euler characteristic"] == 0   # the torus, rebuilt from samples
     assert figures["crust"]["3D crust: Hausdorff distance / bounding-box diagonal"] < 0.01
+    assert figures["poisson"]["Poisson: closed manifold"] is True
+    assert figures["poisson"]["Poisson: Euler characteristic"] == 0   # the torus, from noisy samples
+    assert figures["poisson"]["Poisson: mean distance / bounding-box diagonal"] < 1e-3
 
 
 def test_demo_on_an_input_file(tmp_path, sphere_file):

@@ -78,6 +78,11 @@ def poly_file(tmp_path):
     return path
 
 
+def ball_grid() -> np.ndarray:
+    x = np.linspace(-1, 1, 9)
+    return np.sqrt(sum(c ** 2 for c in np.meshgrid(x, x, x, indexing="ij"))) - 0.7
+
+
 # name -> (function of tmp_path giving the result, the field names it unpacks as, in order)
 RESULTS = {
     "datasets.icosphere": (lambda tmp: datasets.icosphere(1), ["V", "F"]),
@@ -207,6 +212,18 @@ RESULTS = {
     "quadrangulation.quad_quality": (
         lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
         [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),
+    "reconstruction.marching_cubes": (lambda tmp: meshsmith.reconstruction.marching_cubes(ball_grid()),
+                                      ["V", "F", "centre_vertices", "blocks", "evaluations"]),
+    "reconstruction.mesh_sdf": (lambda tmp: meshsmith.reconstruction.mesh_sdf(*datasets.icosphere(1), np.eye(3)),
+                                ["distance", "face", "point", "winding"]),
+    "reconstruction.sample_grid": (lambda tmp: meshsmith.reconstruction.sample_grid([[0, 0, 0], [1, 1, 1]], 3),
+                                   ["points", "shape", "origin", "spacing"]),
+    "reconstruction.poisson": (lambda tmp: meshsmith.reconstruction.poisson(*datasets.sphere_points(300), depth=4),
+                               ["V", "F", "density", "iso", "level_depths", "level_unknowns", "level_iterations",
+                                "level_residuals"]),
+    "reconstruction.trim_by_density": (
+        lambda tmp: meshsmith.reconstruction.trim_by_density(*datasets.icosphere(1), np.arange(42.0)),
+        ["V", "F", "vertex_map"]),
 }
 
 

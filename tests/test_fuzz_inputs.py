@@ -69,6 +69,13 @@ GRID_V = _grid_V[:, :2].copy()                             # a planar triangulat
 _t = 2 * np.pi * np.arange(40) / 40
 CIRCLE = np.stack([np.cos(_t), 1.5 * np.sin(_t)], 1)       # dense samples of a closed curve
 CURVE = CIRCLE[::2].copy()
+_x = np.linspace(-1, 1, 6)
+BALL_VALUES = np.sqrt(sum(c ** 2 for c in np.meshgrid(_x, _x, _x, indexing="ij"))) - 0.7  # a 6³ grid
+
+
+def ball_field(P: np.ndarray) -> np.ndarray:
+    """The signed distance to a ball of radius 2 (a field for marching_cubes_sparse)."""
+    return np.linalg.norm(P, axis=1) - 2.0
 
 
 def _disk_angles() -> np.ndarray:
@@ -226,6 +233,13 @@ VALID = {
     "quadrangulation.quadrangulate": {"target_faces": 40},
     "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
                                      "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
+    "reconstruction.marching_cubes": {"values": BALL_VALUES},
+    "reconstruction.marching_cubes_sparse": {"field": ball_field, "shape": np.array([6, 6, 6]),
+                                             "seeds": np.array([[2.0, 0.0, 0.0]])},
+    "reconstruction.tangent_plane_sdf": {"k": 3},
+    "reconstruction.sample_grid": {"bounds": np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 1.0]]), "resolution": 5},
+    "reconstruction.poisson": {"depth": 4, "coarse_depth": 3, "max_iterations": 50},
+    "reconstruction.trim_by_density": {"density": np.linspace(0.0, 1.0, 42)},
     "datasets.icosphere": {"subdivisions": 1},
     "datasets.uv_sphere": {"n_latitude": 4, "n_longitude": 8},
     "datasets.torus": {"n_major": 8, "n_minor": 4},

@@ -30,4 +30,5 @@ void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls bot
 void bind_deformation(pybind11::module_& m);
 void bind_quadrangulation(pybind11::module_& m);
 void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
+void bind_reconstruction(pybind11::module_& m);
 }  // namespace meshsmith::python

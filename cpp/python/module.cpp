@@ -43,6 +43,7 @@ PYBIND11_MODULE(_core, m) {
   auto registration = m.def_submodule("registration");
   meshsmith::python::bind_registration(registration);
   auto reconstruction = m.def_submodule("reconstruction");
+  meshsmith::python::bind_reconstruction(reconstruction);
   meshsmith::python::bind_reconstruction_depth(reconstruction);
   meshsmith::python::bind_smoothing_fairing(smoothing);
   auto deformation = m.def_submodule("deformation");

@@ -45,6 +45,7 @@ from . import (
     points,
     registration,
     quadrangulation,
+    reconstruction,
     render,
     repair,
     smoothing,
@@ -70,6 +71,7 @@ CHAPTERS = (
     parametrization,
     deformation,
     quadrangulation,
+    reconstruction,
     demo,
 )
 

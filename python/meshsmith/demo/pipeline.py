@@ -17,6 +17,7 @@ from .io import stage_input
 from .parametrization import stage_parametrization
 from .registration import stage_registration
 from .quadrangulation import stage_quadrangulation
+from .reconstruction import stage_poisson
 from .render import stage_pictures
 from .repair import stage_clean
 from .smoothing import stage_smoothing
@@ -33,6 +34,7 @@ STAGES = [
     stage_crust,
     stage_smoothing,
     stage_deformation,
+    stage_poisson,
     stage_decimation,
     stage_parametrization,
     stage_registration,

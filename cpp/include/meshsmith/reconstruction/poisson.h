@@ -1,0 +1,70 @@
+#pragma once
+/// \file poisson.h
+/// Screened Poisson surface reconstruction (§2.2, §3.1; Kazhdan, Bolitho & Hoppe 2006, Kazhdan &
+/// Hoppe 2013) from oriented samples, on nested regular grids restricted to narrow bands.
+///
+/// The indicator χ minimises ∫ |∇χ − V|² + α 2^d Σ_s a_s χ(p_s)² with trilinear (Q1) elements,
+/// where V is the samples' outward normals a_s n_s splatted trilinearly at each sample's depth
+/// (the deepest level where the support of the node nearest to the sample, its 8 cells, holds
+/// >= samples_per_node samples; a_s is the sample's share of the surface area in that support;
+/// the screening sums over the samples whose depth + refinement >= d, by default all). Level
+/// `coarse_depth` is the full (2^d + 1)³ grid over the bounding cube (natural boundary
+/// conditions); each finer level d up to `depth` keeps only the blocks of 2³ cells within
+/// band + 1 cells of the samples whose depth + band_refinement >= d (by default all; smaller
+/// values stop sparse regions at a coarser level, as an adaptive octree), takes the coarser solution as its
+/// boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate gradients
+/// (a cascadic scheme: regular grids restricted to narrow bands standing in for the octree).
+/// χ is thereby defined everywhere (the finest band where it exists, coarser levels elsewhere;
+/// continuous because the Q1 spaces are nested), and its iso-surface at the mean of χ over the
+/// samples is extracted by marching_cubes_sparse on the finest grid, seeded at the samples: the
+/// output is closed and edge-manifold wherever the surface stays inside the bounding cube.
+#include <meshsmith/core/progress.h>
+#include <meshsmith/core/types.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace meshsmith::reconstruction {
+
+/// Options of poisson().
+struct PoissonOptions {
+  int depth = 8;                  ///< finest level: 2^depth cells along the bounding cube's edge, in [2, 10]
+  double screening = 4.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0)
+  double samples_per_node = 1.5;  ///< samples a node's support must hold for a sample to be splatted at its level (> 0)
+  double scale = 1.1;             ///< bounding cube edge ÷ the samples' largest extent (>= 1)
+  int coarse_depth = 5;           ///< the level solved on the full grid (clamped to [2, depth])
+  int band = 1;                   ///< cells kept around the samples on finer levels, in [1, 16]
+  int refinement = 10;            ///< levels beyond a sample's depth where it screens χ, in [0, 10] (10: all)
+  int band_refinement = 10;       ///< levels beyond a sample's depth the bands reach (10: all)
+  int max_iterations = 300;       ///< conjugate-gradient iterations per level (>= 1)
+  double tolerance = 1e-4;        ///< relative residual that ends a level's iterations (> 0)
+};
+
+/// What one level of the cascade did.
+struct PoissonLevel {
+  int depth = 0;
+  std::int64_t unknowns = 0;    ///< free nodes (the band's interior)
+  std::int64_t boundary = 0;    ///< nodes given by the coarser level
+  int iterations = 0;
+  double residual = 0.0;        ///< relative residual reached
+};
+
+/// The reconstructed surface.
+struct PoissonResult {
+  VertexMatrix V;             ///< #V×3
+  FaceMatrix F;               ///< #F×3, outward
+  Eigen::VectorXd density;    ///< #V: samples within 2 finest cells of the vertex (low: unsupported)
+  double iso = 0.0;           ///< the iso-value (mean χ at the samples)
+  std::vector<PoissonLevel> levels;
+};
+
+/// Screened Poisson reconstruction of the oriented samples P (#P×3) with normals N (#P×3,
+/// outward, any non-zero length). Deterministic: the result does not depend on the thread count.
+/// \pre #P >= 4 and P finite, not all on one line; N of P's shape, finite, no zero row; the
+///      options within the ranges above.
+/// \throw InputError if a precondition fails (naming the row or option). \throw Cancelled.
+/// Time and memory O(#P + band cells at the finest level), about O(4^depth) for a surface.
+PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptions& options = {},
+                      const Progress& progress = {});
+
+}  // namespace meshsmith::reconstruction
