@@ -4,7 +4,9 @@ These are the bindings' conversions themselves (cpp/python/convert.cpp, through
 ``meshsmith._core.core``), so an array or an integer option checked here gets exactly the rule
 and the message it gets in C++: InputError naming the argument for anything numpy cannot turn
 into a numeric array of the right shape and dtype (ragged lists, None, objects, strings,
-complex; float or bool indices), and for an integer option that is not an integer in its range.
+complex; float or bool indices), for an integer option that is not an integer in its range, and
+for a float option that is not a real number (`real`, the one check made in Python only: the
+bindings take float options as doubles).
 Arrays come back C-contiguous (float64, int32 or bool), without a copy when they are already;
 the caller's arrays are never written to.
 """
@@ -50,6 +52,17 @@ def integer(value: object, name: str, minimum: int, maximum: int) -> int:
     an int in [minimum, maximum]. Raises InputError "name = value: expected an integer in
     [minimum, maximum]"."""
     return _convert.integer_option(value, name, minimum, maximum)
+
+
+def real(value: object, name: str) -> float:
+    """`value` (a Python or numpy real number: int or float, not a bool) as a float, for a float
+    option before it reaches a binding (whose float parameters would raise pybind11's TypeError
+    for a string, None or a list). NaN and Inf pass: each function checks its own range.
+    Raises InputError "name = value: expected a real number", as `integer` words it."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        shown = repr(value)
+        raise InputError(f"{name} = {shown if len(shown) <= 60 else shown[:57] + '...'}: expected a real number")
+    return float(value)
 
 
 def progress(callback: ProgressCallback) -> ProgressCallback:

@@ -123,7 +123,8 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
     V2, F2, report = _core.decimate_qem(
         V, F, target_faces=target, max_error=max_error or 0.0, operator=operator, cost=cost,
         candidates=candidates or 0, seed=seed, prevent_normal_flips=prevent_normal_flips,
-        max_normal_deviation_deg=max_normal_deviation or 0.0, min_triangle_quality=min_quality or 0.0,
+        max_normal_deviation_deg=0.0 if max_normal_deviation is None else _arguments.real(max_normal_deviation, "max_normal_deviation"),
+        min_triangle_quality=0.0 if min_quality is None else _arguments.real(min_quality, "min_quality"),
         max_valence=max_valence or 0, keep_boundary=keep_boundary,
         record_collapses=record_collapses, parallel=parallel, progress=progress)
     if not return_report:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass as _dataclass
 
+from .. import _arguments
 from .._core import parametrization as _core
 from .._deprecation import positional_options
 from .._results import Unpackable
@@ -70,7 +71,8 @@ def abf(V: ArrayLike, F: ArrayLike, *, method: str = "abf++", max_iterations: in
     if the residual is still above tolerance after max_iterations (the message gives it).
     """
     mesh = on_referenced_vertices(V, F)
-    result = _core.abf(mesh.V, mesh.F, method, max_iterations, float(tolerance), float(minimum_angle), progress)
+    result = _core.abf(mesh.V, mesh.F, method, max_iterations, _arguments.real(tolerance, "tolerance"),
+                         _arguments.real(minimum_angle, "minimum_angle"), progress)
     return AbfResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
 
 

@@ -42,6 +42,7 @@ class ReferencedMesh(Unpackable):
         """Per-vertex values of this mesh, (k, ...) -> (n, ...) on the input's vertex indices,
         `fill` (NaN by default) in the rows of the unreferenced vertices."""
         values = _arguments.numbers(values, "values")
+        fill = _arguments.real(fill, "fill")
         if values.ndim == 0 or len(values) != len(self.vertex_map):
             raise InputError(f"values has shape {values.shape}: expected one row per vertex of the mesh "
                              f"({len(self.vertex_map)}, ...)")
