@@ -497,3 +497,30 @@ def test_voronoi_vertex_beyond_the_double_range_is_an_input_error():
         assert "beyond the double range" in str(error)
     else:
         assert np.all(np.isfinite(diagram.vertices))
+
+
+# --- topology.info: area and volume beyond the double range -------------------------------------
+
+@pytest.mark.parametrize("k", [-498, 100, 498, 997])
+def test_info_scales_area_and_volume_exactly_or_notes_the_overflow(k):
+    V, F = bumpy_sphere()
+    reference = meshsmith.topology.info(V, F)
+    result = meshsmith.topology.info(scaled(V, k), F)  # never raises for the range
+    assert (result.n_vertices, result.genus, result.is_manifold) == (reference.n_vertices, reference.genus, True)
+    for name, power in (("surface_area", 2), ("volume", 3)):
+        value, unscaled = getattr(result, name), getattr(reference, name)
+        if math.frexp(unscaled)[1] + power * k < 1024:
+            assert value == math.ldexp(unscaled, power * k), name
+        else:
+            assert value == math.copysign(math.inf, unscaled)
+            assert any(name.replace("_", " ") in note and "beyond the double range" in note for note in result.notes)
+    assert bool(result.notes) == (math.frexp(reference.volume)[1] + 3 * k >= 1024)
+    assert ("note" in str(result)) == bool(result.notes)
+
+
+def test_info_at_decimal_1e150_gives_the_area_and_an_infinite_volume():
+    V, F = bumpy_sphere()
+    reference = meshsmith.topology.info(V, F)
+    result = meshsmith.topology.info(V * 1e150, F)
+    assert math.isclose(result.surface_area, reference.surface_area * 1e300, rel_tol=1e-12)
+    assert result.volume == math.inf and len(result.notes) == 1

@@ -109,11 +109,14 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
         raise InputError("decimate: give target_faces or ratio, not both")
     target = 0
     if ratio is not None:
+        ratio = _arguments.real(ratio, "ratio")
         if not 0 < ratio <= 1:
             raise InputError(f"decimate: ratio must be in (0, 1], got {ratio}")
         target = max(1, int(round(ratio * len(_arguments.index_array(F, "F", 3)))))
     elif target_faces is not None:
         target = _arguments.integer(target_faces, "target_faces", 1, 2 ** 63 - 1)
+    if max_error is not None:
+        max_error = _arguments.real(max_error, "max_error")
     if max_error is not None and not max_error > 0:
         raise InputError(f"decimate: max_error must be > 0, got {max_error}")
     if target == 0 and max_error is None:
