@@ -524,3 +524,35 @@ def test_info_at_decimal_1e150_gives_the_area_and_an_infinite_volume():
     result = meshsmith.topology.info(V * 1e150, F)
     assert math.isclose(result.surface_area, reference.surface_area * 1e300, rel_tol=1e-12)
     assert result.volume == math.inf and len(result.notes) == 1
+
+
+@pytest.mark.parametrize("far", [1e150, 1e300])
+def test_triangle_distortion_keeps_small_faces_next_to_a_far_vertex(far):
+    """Each face in its own frame: the faces away from the far vertex give exactly what they give
+    without it, every per-vertex figure is finite (they were NaN: the whole mesh's frame flushed the
+    small faces to zero area), and the thin faces at the far vertex have their true area."""
+    V, F = datasets.disk(3, 12)[:2]
+    UV = V[:, :2].copy()
+    reference = meshsmith.geometry.triangle_distortion(V, F, UV)
+    moved = V.copy()
+    moved[0] = [far, 0.0, 0.0]
+    result = meshsmith.geometry.triangle_distortion(moved, F, UV)
+    untouched = ~np.any(F == 0, axis=1)
+    for name in ("isometric", "conformal", "area", "stretch_l2", "stretch_linf", "surface_areas"):
+        np.testing.assert_array_equal(getattr(result, name)[untouched], getattr(reference, name)[untouched], err_msg=name)
+    away = np.setdiff1d(np.arange(len(V)), F[~untouched].ravel())
+    for name in ("vertex_isometric", "vertex_conformal", "vertex_area", "vertex_stretch_l2", "vertex_stretch_linf"):
+        values = getattr(result, name)
+        assert not np.any(np.isnan(values)), name  # inf only where a face's own figure is (1e300² at 1e300)
+        per_face = getattr(result, name.replace("vertex_", ""))
+        infinite_at = np.unique(F[~np.isfinite(per_face)])
+        assert np.all(np.isfinite(np.delete(values, infinite_at))), name
+        np.testing.assert_array_equal(values[away], getattr(reference, name)[away], err_msg=name)
+    assert len(result.degenerate_surface_faces) == 0
+    # A face (far vertex p, q, r) of the flat disk (z = 0): area 0.5 |det(q - p, r - p)|, which is
+    # 0.5 · far · |q_y - r_y| to a relative 1e-150 or better.
+    corners = moved[F[~untouched]]
+    assert np.all(corners[:, :, 2] == 0)
+    others = [np.delete(face, np.flatnonzero(F[~untouched][i] == 0)[0], axis=0) for i, face in enumerate(corners)]
+    np.testing.assert_allclose(result.surface_areas[~untouched] / far,
+                               [0.5 * abs(q[1] - r[1]) for q, r in others], rtol=1e-12)
