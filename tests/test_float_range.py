@@ -556,3 +556,47 @@ def test_triangle_distortion_keeps_small_faces_next_to_a_far_vertex(far):
     others = [np.delete(face, np.flatnonzero(F[~untouched][i] == 0)[0], axis=0) for i, face in enumerate(corners)]
     np.testing.assert_allclose(result.surface_areas[~untouched] / far,
                                [0.5 * abs(q[1] - r[1]) for q, r in others], rtol=1e-12)
+
+
+# --- tessellation: power diagrams ------------------------------------------------------------------
+
+@pytest.mark.parametrize("k", [-498, 498])
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("weight_scale", [0.0, 0.01, -0.05, 1.0])
+def test_power_diagram_is_exactly_scale_covariant(k, d, weight_scale):
+    """Sites times 2^k, weights (squared radii) times 2^2k, bounds times 2^k: the same regular
+    triangulation and hidden sites, every cell corner times 2^k bit for bit. (At 2^±997 the
+    weights themselves leave the double range.)"""
+    rng = np.random.default_rng(3 + d)
+    P, w = rng.random((60, d)), weight_scale * rng.random(60)
+    bounds = meshsmith.tessellation.default_bounds(P)
+    reference = meshsmith.tessellation.power_diagram(P, w)
+    for result in (meshsmith.tessellation.power_diagram(scaled(P, k), np.ldexp(w, 2 * k)),
+                   meshsmith.tessellation.power_diagram(scaled(P, k), np.ldexp(w, 2 * k), bounds=scaled(bounds, k))):
+        np.testing.assert_array_equal(result.triangulation, reference.triangulation)
+        np.testing.assert_array_equal(result.hidden, reference.hidden)
+        for cell, unscaled in zip(result.cells, reference.cells):
+            if d == 2:
+                assert_scaled_exactly(cell, unscaled, k, 1)
+            else:
+                assert_scaled_exactly(cell[0], unscaled[0], k, 1)
+                np.testing.assert_array_equal(cell[1], unscaled[1])
+
+
+# --- parametrization with one far vertex: refused, with the reason ------------------------------
+
+@pytest.mark.parametrize("method", ["lscm", "harmonic", "abf"])
+def test_parametrizing_with_one_far_vertex_names_the_vertex_and_the_scales(method):
+    """The maps solve one system over the whole mesh in one frame: with vertex 7 at 1e150 the unit
+    faces' areas are below the double range there. The message says so (a collinear face still
+    gets the plain 'zero area' message)."""
+    V, F = datasets.disk(3, 12)[:2]
+    far = V.copy()
+    far[7] = [1e150, 0.0, 0.0]
+    with pytest.raises(meshsmith.InputError, match=rf"{method}: face \d+ is about 2\^\d+ times smaller than the mesh, "
+                                                   r"whose largest coordinate is at vertex 7: one linear system"):
+        getattr(meshsmith.parametrization, method)(far, F)
+    flat = V.copy()
+    flat[F[0, 2]] = (flat[F[0, 0]] + flat[F[0, 1]]) / 2  # face 0 collinear
+    with pytest.raises(meshsmith.InputError, match=r"face \d+ has zero area \(collinear corners\)"):
+        getattr(meshsmith.parametrization, method)(flat, F)
