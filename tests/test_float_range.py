@@ -600,3 +600,19 @@ def test_parametrizing_with_one_far_vertex_names_the_vertex_and_the_scales(metho
     flat[F[0, 2]] = (flat[F[0, 0]] + flat[F[0, 1]]) / 2  # face 0 collinear
     with pytest.raises(meshsmith.InputError, match=r"face \d+ has zero area \(collinear corners\)"):
         getattr(meshsmith.parametrization, method)(flat, F)
+
+
+@pytest.mark.parametrize("k", [0, 498, 520, 600, 997])
+def test_decimation_report_states_max_error_beyond_the_double_range(k):
+    """max_error is in input units (inf from ~1e154 on: a length² cost), and
+    max_error_normalized · 2^max_error_exponent states it exactly at every scale."""
+    V, F = bumpy_sphere()
+    reference = meshsmith.decimation.decimate(V, F, target_faces=200, return_report=True).report
+    report = meshsmith.decimation.decimate(scaled(V, k), F, target_faces=200, return_report=True).report
+    assert report.max_error_normalized == reference.max_error_normalized > 0
+    assert report.max_error_exponent == reference.max_error_exponent + 2 * k
+    assert math.ldexp(reference.max_error_normalized, reference.max_error_exponent) == reference.max_error
+    if math.frexp(reference.max_error)[1] + 2 * k < 1024:
+        assert report.max_error == math.ldexp(reference.max_error, 2 * k)
+    else:
+        assert report.max_error == math.inf

@@ -24,9 +24,12 @@ class DecimationReport(Unpackable):
     vertex_origin: (n',) int64, the input vertex each output vertex was (output vertices are
     input vertices that survived, possibly moved). max_error: the largest cost of a performed
     collapse (for ``cost="quadric"`` in length² units: a sum of squared distances to the planes of
-    the merged input faces, each weighted by its area over the mean face area). target_reached:
-    whether ``target_faces`` was reached (False when ``max_error`` stopped it first or no further
-    collapse was admissible). collapse_count: collapses performed. split_vertex_origin: empty, or
+    the merged input faces, each weighted by its area over the mean face area); +inf when it
+    exceeds the double range (a length² cost from coordinates of about 1e154 on), and then
+    ``max_error_normalized · 2**max_error_exponent`` still states it: the cost in the normalized
+    frame the decimation ran in (core/normalization.h) and the power of two that maps it to input
+    units. target_reached: whether ``target_faces`` was reached (False when ``max_error`` stopped
+    it first or no further collapse was admissible). collapse_count: collapses performed. split_vertex_origin: empty, or
     when the input had non-manifold or inconsistently oriented vertices, the input vertex of each
     working vertex (the input's followed by the copies made to split them). collapses: with
     ``record_collapses=True``, the collapses in order as arrays ``removed, kept, left, right``
@@ -41,6 +44,8 @@ class DecimationReport(Unpackable):
     collapse_count: int
     split_vertex_origin: IndexArray
     collapses: dict[str, np.ndarray] | None = None
+    max_error_normalized: float = 0.0
+    max_error_exponent: int = 0
 
 
 class DecimatedMesh(NamedTuple):
@@ -135,4 +140,5 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
     return DecimatedMesh(V2, F2, DecimationReport(
         vertex_origin=report["vertex_origin"], max_error=report["max_error"],
         target_reached=report["target_reached"], collapse_count=report["collapse_count"],
-        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses")))
+        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses"),
+        max_error_normalized=report["max_error_normalized"], max_error_exponent=report["max_error_exponent"]))
