@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._core import InputError
+from ._core import Cancelled, InputError
 from ._core import core as _convert
 from ._typing import BoolArray, FloatArray, ProgressCallback
 
@@ -70,6 +70,22 @@ def progress(callback: ProgressCallback) -> ProgressCallback:
     for a function that passes it on only on some paths. Raises InputError otherwise."""
     _convert.check_progress(callback)
     return callback
+
+
+def report(callback: ProgressCallback, fraction: float, stage: str) -> None:
+    """Calls a progress callback (checked by `progress`) from Python code between steps, with the
+    bindings' rules: False raises meshsmith.Cancelled, True or None goes on, anything else is an
+    InputError naming the value; what the callback raises propagates."""
+    if callback is None:
+        return
+    answer = callback(fraction, stage)
+    if answer is None or answer is True or answer is np.True_:
+        return
+    if answer is False or answer is np.False_:
+        raise Cancelled(f"{stage}: cancelled by the progress callback")
+    shown = repr(answer)
+    raise InputError(f"the progress callback returned {shown[:60]} ({type(answer).__name__}): expected True (go on), "
+                     "False (cancel) or None")
 
 
 def finite(array: FloatArray, name: str) -> FloatArray:
