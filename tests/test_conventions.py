@@ -165,7 +165,8 @@ RESULTS = {
     "decimation.DecimationReport": (
         lambda tmp: decimation.decimate(*datasets.icosphere(2), target_faces=60, return_report=True,
                                         record_collapses=True).report,
-        ["vertex_origin", "max_error", "target_reached", "collapse_count", "split_vertex_origin", "collapses"]),
+        ["vertex_origin", "max_error", "target_reached", "collapse_count", "split_vertex_origin", "collapses",
+         "max_error_normalized", "max_error_exponent"]),
     "decimation.ProgressiveMesh.at": (lambda tmp: decimation.progressive_mesh(*datasets.icosphere(2)).at(100),
                                       ["V", "F"]),
     "decimation.ProgressiveMesh.face_range": (lambda tmp: decimation.progressive_mesh(*datasets.icosphere(2)).face_range,

@@ -497,3 +497,122 @@ def test_voronoi_vertex_beyond_the_double_range_is_an_input_error():
         assert "beyond the double range" in str(error)
     else:
         assert np.all(np.isfinite(diagram.vertices))
+
+
+# --- topology.info: area and volume beyond the double range -------------------------------------
+
+@pytest.mark.parametrize("k", [-498, 100, 498, 997])
+def test_info_scales_area_and_volume_exactly_or_notes_the_overflow(k):
+    V, F = bumpy_sphere()
+    reference = meshsmith.topology.info(V, F)
+    result = meshsmith.topology.info(scaled(V, k), F)  # never raises for the range
+    assert (result.n_vertices, result.genus, result.is_manifold) == (reference.n_vertices, reference.genus, True)
+    for name, power in (("surface_area", 2), ("volume", 3)):
+        value, unscaled = getattr(result, name), getattr(reference, name)
+        if math.frexp(unscaled)[1] + power * k < 1024:
+            assert value == math.ldexp(unscaled, power * k), name
+        else:
+            assert value == math.copysign(math.inf, unscaled)
+            assert any(name.replace("_", " ") in note and "beyond the double range" in note for note in result.notes)
+    assert bool(result.notes) == (math.frexp(reference.volume)[1] + 3 * k >= 1024)
+    assert ("note" in str(result)) == bool(result.notes)
+
+
+def test_info_at_decimal_1e150_gives_the_area_and_an_infinite_volume():
+    V, F = bumpy_sphere()
+    reference = meshsmith.topology.info(V, F)
+    result = meshsmith.topology.info(V * 1e150, F)
+    assert math.isclose(result.surface_area, reference.surface_area * 1e300, rel_tol=1e-12)
+    assert result.volume == math.inf and len(result.notes) == 1
+
+
+@pytest.mark.parametrize("far", [1e150, 1e300])
+def test_triangle_distortion_keeps_small_faces_next_to_a_far_vertex(far):
+    """Each face in its own frame: the faces away from the far vertex give exactly what they give
+    without it, every per-vertex figure is finite (they were NaN: the whole mesh's frame flushed the
+    small faces to zero area), and the thin faces at the far vertex have their true area."""
+    V, F = datasets.disk(3, 12)[:2]
+    UV = V[:, :2].copy()
+    reference = meshsmith.geometry.triangle_distortion(V, F, UV)
+    moved = V.copy()
+    moved[0] = [far, 0.0, 0.0]
+    result = meshsmith.geometry.triangle_distortion(moved, F, UV)
+    untouched = ~np.any(F == 0, axis=1)
+    for name in ("isometric", "conformal", "area", "stretch_l2", "stretch_linf", "surface_areas"):
+        np.testing.assert_array_equal(getattr(result, name)[untouched], getattr(reference, name)[untouched], err_msg=name)
+    away = np.setdiff1d(np.arange(len(V)), F[~untouched].ravel())
+    for name in ("vertex_isometric", "vertex_conformal", "vertex_area", "vertex_stretch_l2", "vertex_stretch_linf"):
+        values = getattr(result, name)
+        assert not np.any(np.isnan(values)), name  # inf only where a face's own figure is (1e300² at 1e300)
+        per_face = getattr(result, name.replace("vertex_", ""))
+        infinite_at = np.unique(F[~np.isfinite(per_face)])
+        assert np.all(np.isfinite(np.delete(values, infinite_at))), name
+        np.testing.assert_array_equal(values[away], getattr(reference, name)[away], err_msg=name)
+    assert len(result.degenerate_surface_faces) == 0
+    # A face (far vertex p, q, r) of the flat disk (z = 0): area 0.5 |det(q - p, r - p)|, which is
+    # 0.5 · far · |q_y - r_y| to a relative 1e-150 or better.
+    corners = moved[F[~untouched]]
+    assert np.all(corners[:, :, 2] == 0)
+    others = [np.delete(face, np.flatnonzero(F[~untouched][i] == 0)[0], axis=0) for i, face in enumerate(corners)]
+    np.testing.assert_allclose(result.surface_areas[~untouched] / far,
+                               [0.5 * abs(q[1] - r[1]) for q, r in others], rtol=1e-12)
+
+
+# --- tessellation: power diagrams ------------------------------------------------------------------
+
+@pytest.mark.parametrize("k", [-498, 498])
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("weight_scale", [0.0, 0.01, -0.05, 1.0])
+def test_power_diagram_is_exactly_scale_covariant(k, d, weight_scale):
+    """Sites times 2^k, weights (squared radii) times 2^2k, bounds times 2^k: the same regular
+    triangulation and hidden sites, every cell corner times 2^k bit for bit. (At 2^±997 the
+    weights themselves leave the double range.)"""
+    rng = np.random.default_rng(3 + d)
+    P, w = rng.random((60, d)), weight_scale * rng.random(60)
+    bounds = meshsmith.tessellation.default_bounds(P)
+    reference = meshsmith.tessellation.power_diagram(P, w)
+    for result in (meshsmith.tessellation.power_diagram(scaled(P, k), np.ldexp(w, 2 * k)),
+                   meshsmith.tessellation.power_diagram(scaled(P, k), np.ldexp(w, 2 * k), bounds=scaled(bounds, k))):
+        np.testing.assert_array_equal(result.triangulation, reference.triangulation)
+        np.testing.assert_array_equal(result.hidden, reference.hidden)
+        for cell, unscaled in zip(result.cells, reference.cells):
+            if d == 2:
+                assert_scaled_exactly(cell, unscaled, k, 1)
+            else:
+                assert_scaled_exactly(cell[0], unscaled[0], k, 1)
+                np.testing.assert_array_equal(cell[1], unscaled[1])
+
+
+# --- parametrization with one far vertex: refused, with the reason ------------------------------
+
+@pytest.mark.parametrize("method", ["lscm", "harmonic", "abf"])
+def test_parametrizing_with_one_far_vertex_names_the_vertex_and_the_scales(method):
+    """The maps solve one system over the whole mesh in one frame: with vertex 7 at 1e150 the unit
+    faces' areas are below the double range there. The message says so (a collinear face still
+    gets the plain 'zero area' message)."""
+    V, F = datasets.disk(3, 12)[:2]
+    far = V.copy()
+    far[7] = [1e150, 0.0, 0.0]
+    with pytest.raises(meshsmith.InputError, match=rf"{method}: face \d+ is about 2\^\d+ times smaller than the mesh, "
+                                                   r"whose largest coordinate is at vertex 7: one linear system"):
+        getattr(meshsmith.parametrization, method)(far, F)
+    flat = V.copy()
+    flat[F[0, 2]] = (flat[F[0, 0]] + flat[F[0, 1]]) / 2  # face 0 collinear
+    with pytest.raises(meshsmith.InputError, match=r"face \d+ has zero area \(collinear corners\)"):
+        getattr(meshsmith.parametrization, method)(flat, F)
+
+
+@pytest.mark.parametrize("k", [0, 498, 520, 600, 997])
+def test_decimation_report_states_max_error_beyond_the_double_range(k):
+    """max_error is in input units (inf from ~1e154 on: a length² cost), and
+    max_error_normalized · 2^max_error_exponent states it exactly at every scale."""
+    V, F = bumpy_sphere()
+    reference = meshsmith.decimation.decimate(V, F, target_faces=200, return_report=True).report
+    report = meshsmith.decimation.decimate(scaled(V, k), F, target_faces=200, return_report=True).report
+    assert report.max_error_normalized == reference.max_error_normalized > 0
+    assert report.max_error_exponent == reference.max_error_exponent + 2 * k
+    assert math.ldexp(reference.max_error_normalized, reference.max_error_exponent) == reference.max_error
+    if math.frexp(reference.max_error)[1] + 2 * k < 1024:
+        assert report.max_error == math.ldexp(reference.max_error, 2 * k)
+    else:
+        assert report.max_error == math.inf

@@ -11,8 +11,9 @@ hypothesis draws a profile (where the NaN goes, which row is ragged, which dtype
 complex, bool, float indices, 0-d and wrong-dimensional arrays, wrong column counts, empty
 arrays, NaN, Inf, indices outside the mesh and the 32-bit range; lossless other forms of the
 valid array (non-contiguous, read-only, big-endian, nested lists and tuples, other index dtypes);
-integers 2^31, 2^63, 2^70, -1, NaN, 1.5 and strings for integer options; NaN, Inf and negative
-values for float options; callbacks that return something other than a bool or None, raise, or
+integers 2^31, 2^63, 2^70, -1, NaN, 1.5, strings and lists for integer options; NaN, Inf, negative
+values, strings, lists, bools and None (where None is not a documented value) for float options,
+also for the numeric options a valid call leaves at their defaults; callbacks that return something other than a bool or None, raise, or
 are not callable. Each example is one profile applied to every function (about 4,800 calls); the
 default 4 examples are the same on every run (MESHSMITH_FUZZ_RANDOM=1 draws new ones,
 MESHSMITH_FUZZ_EXAMPLES=n more of them). The calls run in child processes
@@ -457,9 +458,10 @@ def _tuples(rows):
 
 INTEGER_VARIANTS = [("-1", -1, EITHER), ("0", 0, EITHER), ("2^31", 2**31, EITHER), ("2^63", 2**63, EITHER),
                     ("2^70", 2**70, EITHER), ("NaN", float("nan"), REJECT), ("1.5", 1.5, REJECT),
-                    ("'3'", "3", REJECT), ("numpy int64", np.int64(3), EITHER)]
+                    ("'3'", "3", REJECT), ("list", [3], REJECT), ("numpy int64", np.int64(3), EITHER)]
 FLOAT_VARIANTS = [("NaN", float("nan"), EITHER), ("+Inf", float("inf"), EITHER), ("-Inf", float("-inf"), EITHER),
-                  ("-1.0", -1.0, EITHER), ("0.0", 0.0, EITHER)]
+                  ("-1.0", -1.0, EITHER), ("0.0", 0.0, EITHER), ("'abc'", "abc", REJECT), ("list", [0.5, 1.0], REJECT),
+                  ("True", True, REJECT), ("numpy float32", np.float32(0.5), EITHER), ("int 1", 1, EITHER)]
 PROGRESS_VARIANTS = [("returns 'yes'", worker.BadReturnCallback("yes"), "bad return"),
                      ("returns 1", worker.BadReturnCallback(1), "bad return"),
                      ("returns 0.5", worker.BadReturnCallback(0.5), "bad return"),
@@ -530,6 +532,18 @@ def build_calls(profile: Profile, folder_files) -> tuple[list[worker.Call], list
             elif isinstance(value, float):
                 for kind, bad_value, expected in FLOAT_VARIANTS:
                     add(name, f"float {kind}", bad_value, expected)
+                if not optional and "None" not in str(parameters[name].annotation):
+                    add(name, "float None", None, REJECT)
+        for name, parameter in parameters.items():  # numeric options left at their defaults
+            default = parameter.default
+            if name in kwargs or isinstance(default, bool) or not isinstance(default, (int, float)):
+                continue
+            kinds = ([("'abc'", "abc"), ("list", [0.5, 1.0]), ("True", True)] if isinstance(default, float)
+                     else [("'3'", "3"), ("list", [3]), ("1.5", 1.5)])
+            if "None" not in str(parameter.annotation):
+                kinds.append(("None", None))
+            for kind, bad_value in kinds:
+                add(name, f"{'float' if isinstance(default, float) else 'integer'} {kind}", bad_value, REJECT)
         if "progress" in parameters:
             for kind, callback, expected in PROGRESS_VARIANTS:  # a fresh callback per call (it counts its calls)
                 add("progress", f"progress {kind}", copy.deepcopy(callback), expected)
@@ -643,11 +657,13 @@ def judge(case: Case, outcome: dict) -> str | None:
 
 
 #: Integer option values outside every option's range (or not integers): the message must name it.
-NAMED_INTEGER_VARIANTS = {"integer 2^63", "integer 2^70", "integer NaN", "integer 1.5", "integer '3'", "integer None"}
+NAMED_INTEGER_VARIANTS = {"integer 2^63", "integer 2^70", "integer NaN", "integer 1.5", "integer '3'", "integer None",
+                          "integer list", "float 'abc'", "float list", "float True", "float None"}
 
 
 def _option_named(case: Case, message: str) -> str | None:
-    """Integer options out of every range: the InputError must name the option."""
+    """Integer options out of every range, and float options that are not real numbers: the
+    InputError must name the option."""
     if case.kind not in NAMED_INTEGER_VARIANTS:
         return None
     name = OPTION_NAMES.get((case.target, case.parameter), case.parameter)
@@ -700,7 +716,7 @@ def test_public_functions_survive_bad_arguments(profile, tmp_path_factory):
     if os.environ.get("MESHSMITH_FUZZ_REPORT"):  # every failure, one per line, for a survey
         with open(os.environ["MESHSMITH_FUZZ_REPORT"], "a") as report:
             report.write(f"# {summary}; {len(failures)} failed\n" + "".join(f + "\n" for f in failures))
-    assert not failures, f"{len(failures)} of {summary} failed ({profile}):\n" + "\n".join(failures[:60])
+    assert not failures, f"{len(failures)} of {summary} failed ({profile}):\n" + "\n".join(failures[:int(os.environ.get("MESHSMITH_FUZZ_SHOW", "60"))])
 
 
 # ---- the cases issue 14 names, with their messages ----------------------------------------

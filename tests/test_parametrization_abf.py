@@ -410,8 +410,23 @@ def test_bad_options_and_arrays():
         parametrization.uv_from_angles(F, angles, pinned=[3, 3])
     with pytest.raises(meshsmith.InputError, match="pinned vertex 99 is outside"):
         parametrization.uv_from_angles(F, angles, pinned=[0, 99])
-    with pytest.raises(meshsmith.InputError, match="vertex 31 is used by no face"):
-        parametrization.uv_from_angles(F, angles, n_vertices=len(V) + 1)
+    with pytest.raises(meshsmith.InputError, match="pinned vertex 31 is used by no face"):
+        parametrization.uv_from_angles(F, angles, n_vertices=len(V) + 1, pinned=[0, 31])
+
+
+def test_uv_from_angles_gives_unused_vertices_nan_rows_and_the_rest_unchanged():
+    """Like the other parametrizations: the layout of the used vertices, NaN rows for the others
+    (an extra vertex at the end, or one in the middle of the numbering)."""
+    V, F = hemisphere_cap(6, 24)
+    angles = parametrization.abf(V, F).angles
+    reference = parametrization.uv_from_angles(F, angles)
+    extra = parametrization.uv_from_angles(F, angles, n_vertices=len(V) + 2)
+    np.testing.assert_array_equal(extra[:len(V)], reference)
+    assert np.all(np.isnan(extra[len(V):]))
+    shifted = np.where(F >= 5, F + 1, F)  # vertex 5 unused
+    middle = parametrization.uv_from_angles(shifted, angles, pinned=[shifted[0, 0], shifted[0, 1]])
+    np.testing.assert_array_equal(np.delete(middle, 5, axis=0), reference)
+    assert np.all(np.isnan(middle[5]))
 
 
 def test_inputs_are_not_modified():

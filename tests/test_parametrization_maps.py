@@ -414,3 +414,19 @@ def test_lscm_bad_input():
     bnd = topology.boundary_loops(Fa)[0]
     UV = P.lscm(Va, Fa, [bnd[0], bnd[len(bnd) // 2]], np.eye(2))
     assert P.is_bijective(UV, Fa)
+
+
+@pytest.mark.parametrize("method", ["lscm", "harmonic", "tutte"])
+def test_parametrize_reports_progress_for_the_maps_and_honours_cancel(method):
+    """The maps solve one factorization each and report nothing themselves: parametrize reports
+    its stages (chart by chart, then distortion), increasing to 1; False cancels, garbage is named."""
+    V, F = datasets.icosphere(2)
+    calls = []
+    P.parametrize(V, F, method=method, progress=lambda f, s: calls.append((f, s)))
+    fractions = [f for f, _ in calls]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 1.0 and len(calls) >= 3
+    assert calls[0][1] == f"{method}: chart 1 of 1"
+    with pytest.raises(meshsmith.Cancelled, match="cancelled by the progress callback"):
+        P.parametrize(V, F, method=method, progress=lambda f, s: False)
+    with pytest.raises(meshsmith.InputError, match="progress callback returned 'x'"):
+        P.parametrize(V, F, method=method, progress=lambda f, s: "x")

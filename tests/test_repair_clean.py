@@ -516,3 +516,50 @@ def test_demo_refuses_a_point_cloud_in_one_line(tmp_path, capsys):
     error = capsys.readouterr().err.strip().splitlines()
     assert len(error) == 1 and "holds no faces" in error[0]
     assert not (tmp_path / "report" / "index.html").exists()
+
+
+def test_cli_clean_keeps_uvs_normals_and_colours_on_their_corners(tmp_path):
+    """Per-corner UVs and normals follow each face's corners through the clean (faces flipped to
+    orient them, a merged duplicate vertex, an unreferenced vertex), vertex colours their vertices,
+    face colours their faces: checked corner by corner against the input, by position."""
+    V, F = datasets.icosphere(2)
+    n = len(V)
+    V_in = np.vstack([V, [[5.0, 5, 5]], V[3:4]])           # vertex n unused, n + 1 duplicates 3
+    F_in = F[:, [0, 2, 1]].copy()                            # every face inward: clean flips them all
+    uses_3 = np.flatnonzero(np.any(F_in == 3, axis=1))[:2]
+    F_in[uses_3] = np.where(F_in[uses_3] == 3, n + 1, F_in[uses_3])
+    m = len(F_in)
+    UV = np.random.default_rng(5).random((3 * m, 2))         # one UV per corner
+    F_uv = np.arange(3 * m).reshape(m, 3)
+    normals = np.random.default_rng(6).normal(size=(3 * m, 3))
+    colors = np.random.default_rng(7).random((len(V_in), 3))
+    colors[n + 1] = colors[3]
+    face_colors = np.random.default_rng(8).random((m, 3))
+    source = tmp_path / "in.obj"
+    meshsmith.io.write_mesh(source, V_in, F_in, UV=UV, F_uv=F_uv, normals=normals, F_normal=F_uv, colors=colors)
+    target = tmp_path / "out.obj"
+    with contextlib.redirect_stdout(text_io.StringIO()) as out:
+        assert cli.main(["clean", str(source), "-o", str(target)]) == 0
+    assert out.getvalue().splitlines()[0].endswith("with normals, UV, colors")
+    result = meshsmith.io.read_mesh(target, return_attributes=True)
+    assert len(result.V) == len(V) and len(result.F) == m
+    assert topology.is_oriented(result.F) and geometry.volume(result.V, result.F) > 0
+
+    def corners(V_, F_, values, index):  # position of each corner -> its attribute, face by face
+        return {tuple(V_[F_[f, k]].round(9).tolist()) + (tuple(sorted(map(tuple, V_[F_[f]].round(9).tolist()))),):
+                tuple(values[index[f, k]].tolist()) for f in range(len(F_)) for k in range(3)}
+
+    for values, index, out_values, out_index in ((UV, F_uv, result.UV, result.F_uv),
+                                                 (normals, F_uv, result.normals, result.F_normal)):
+        expected = corners(V_in, F_in, values, index)
+        got = corners(result.V, result.F, out_values, out_index)
+        assert got.keys() == expected.keys()
+        for key in expected:
+            np.testing.assert_allclose(got[key], expected[key], rtol=1e-6, atol=1e-6)
+    by_position = {tuple(p.round(9).tolist()): c for p, c in zip(V_in, colors)}
+    np.testing.assert_allclose(result.colors, [by_position[tuple(p.round(9).tolist())] for p in result.V], atol=1e-6)
+    # face colours (not in OBJ) through the same mapping, on the MeshData directly
+    from meshsmith.cli.repair import cleaned_attributes
+    data = meshsmith.io.MeshData(V_in, F_in, face_colors=face_colors)
+    V2, F2, report = repair.clean(V_in, F_in)
+    np.testing.assert_array_equal(cleaned_attributes(data, V2, F2, report)["face_colors"], face_colors[report.face_map])

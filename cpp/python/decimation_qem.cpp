@@ -78,6 +78,8 @@ void bind_decimation_qem(py::module_& m) {
     py::dict report;
     report["vertex_origin"] = indices_to_numpy(result.vertex_origin).attr("reshape")(-1);
     report["max_error"] = result.max_collapse_error;
+    report["max_error_normalized"] = result.max_collapse_error_normalized;
+    report["max_error_exponent"] = result.max_collapse_error_exponent;
     report["target_reached"] = result.target_reached;
     report["collapse_count"] = result.collapse_count;
     report["split_vertex_origin"] = indices_to_numpy(result.split_vertex_origin).attr("reshape")(-1);

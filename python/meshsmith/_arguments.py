@@ -4,7 +4,9 @@ These are the bindings' conversions themselves (cpp/python/convert.cpp, through
 ``meshsmith._core.core``), so an array or an integer option checked here gets exactly the rule
 and the message it gets in C++: InputError naming the argument for anything numpy cannot turn
 into a numeric array of the right shape and dtype (ragged lists, None, objects, strings,
-complex; float or bool indices), and for an integer option that is not an integer in its range.
+complex; float or bool indices), for an integer option that is not an integer in its range, and
+for a float option that is not a real number (`real`, the one check made in Python only: the
+bindings take float options as doubles).
 Arrays come back C-contiguous (float64, int32 or bool), without a copy when they are already;
 the caller's arrays are never written to.
 """
@@ -12,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._core import InputError
+from ._core import Cancelled, InputError
 from ._core import core as _convert
 from ._typing import BoolArray, FloatArray, ProgressCallback
 
@@ -52,11 +54,38 @@ def integer(value: object, name: str, minimum: int, maximum: int) -> int:
     return _convert.integer_option(value, name, minimum, maximum)
 
 
+def real(value: object, name: str) -> float:
+    """`value` (a Python or numpy real number: int or float, not a bool) as a float, for a float
+    option before it reaches a binding (whose float parameters would raise pybind11's TypeError
+    for a string, None or a list). NaN and Inf pass: each function checks its own range.
+    Raises InputError "name = value: expected a real number", as `integer` words it."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        shown = repr(value)
+        raise InputError(f"{name} = {shown if len(shown) <= 60 else shown[:57] + '...'}: expected a real number")
+    return float(value)
+
+
 def progress(callback: ProgressCallback) -> ProgressCallback:
     """`callback` if it is None or callable (what the bindings accept as a progress callback),
     for a function that passes it on only on some paths. Raises InputError otherwise."""
     _convert.check_progress(callback)
     return callback
+
+
+def report(callback: ProgressCallback, fraction: float, stage: str) -> None:
+    """Calls a progress callback (checked by `progress`) from Python code between steps, with the
+    bindings' rules: False raises meshsmith.Cancelled, True or None goes on, anything else is an
+    InputError naming the value; what the callback raises propagates."""
+    if callback is None:
+        return
+    answer = callback(fraction, stage)
+    if answer is None or answer is True or answer is np.True_:
+        return
+    if answer is False or answer is np.False_:
+        raise Cancelled(f"{stage}: cancelled by the progress callback")
+    shown = repr(answer)
+    raise InputError(f"the progress callback returned {shown[:60]} ({type(answer).__name__}): expected True (go on), "
+                     "False (cancel) or None")
 
 
 def finite(array: FloatArray, name: str) -> FloatArray:

@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import _arguments
 from ._core import core as _core
 from ._deprecation import positional_options
 from ._results import Unpackable
@@ -80,7 +81,7 @@ def mesh_defects(V: ArrayLike, F: ArrayLike, *, area_tolerance: float = 0.0) -> 
 
     Raises InputError if (V, F) fails :func:`validate_mesh`.
     """
-    found = _core.find_mesh_defects(V, F, float(area_tolerance))
+    found = _core.find_mesh_defects(V, F, _arguments.real(area_tolerance, "area_tolerance"))
     def indices(name: str) -> IndexArray:
         return np.asarray(found[name], dtype=np.int64)
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Literal, NamedTuple, overload
 
+from . import _arguments
 from ._core import InputError
 from ._core import points as _core
 from ._deprecation import positional_options
@@ -89,7 +90,7 @@ class KdTree:
         the neighbours of query i are indices[offsets[i]:offsets[i + 1]] (int64), with their
         distances. offsets has m + 1 entries. Raises InputError for radius <= 0, NaN/Inf.
         """
-        return RadiusNeighbours(*self._tree.query_radius(Q, float(radius), progress))
+        return RadiusNeighbours(*self._tree.query_radius(Q, _arguments.real(radius, "radius"), progress))
 
     @overload
     def estimate_normals(self, *, k: int = ..., radius: float | None = ..., return_variation: Literal[False] = ...,
@@ -124,7 +125,7 @@ def knn(P: ArrayLike, k: int, Q: ArrayLike | None = None, *, progress: ProgressC
 def _radius(radius: float | None) -> float:
     if radius is None:
         return 0.0
-    radius = float(radius)
+    radius = _arguments.real(radius, "radius")
     if not radius > 0.0:  # 0 would silently mean "use k" in the core
         raise InputError(f"radius = {radius} must be positive and finite")
     return radius
@@ -177,4 +178,4 @@ def orient_normals(P: ArrayLike, N: ArrayLike, *, k: int = 16, alpha: float = 0.
     Returns an (n, 3) copy of N with some rows negated. Raises InputError if shapes differ,
     a normal is zero, k < 1 or k >= n, axis is not 0/1/2, alpha/beta < 0 or both 0, or NaN/Inf.
     """
-    return _core.orient_normals(P, N, k, float(alpha), float(beta), axis, progress)
+    return _core.orient_normals(P, N, k, _arguments.real(alpha, "alpha"), _arguments.real(beta, "beta"), axis, progress)

@@ -140,8 +140,8 @@ def frame_camera(V: ArrayLike, *, view: View = "three-quarter", size: tuple[int,
     width, height = _check_size(size)
     azimuth, elevation = view_angles(view)
     found = _core.frame_camera(V, azimuth, elevation, up=up, aspect=width / height,
-                               fov_y_deg=float(fov), orthographic=bool(orthographic),
-                               margin=float(margin))
+                               fov_y_deg=_arguments.real(fov, "fov"), orthographic=bool(orthographic),
+                               margin=_arguments.real(margin, "margin"))
     return Camera(eye=tuple(found["eye"]), target=tuple(found["target"]), up=tuple(found["up"]),
                   fov_y_deg=found["fov_y_deg"], orthographic=found["orthographic"],
                   ortho_height=found["ortho_height"])
@@ -173,6 +173,7 @@ def default_colormap(scalar: ArrayLike) -> str:
 def clipped_ends(scalar: ArrayLike, low: float, high: float) -> tuple[bool, bool]:
     """(some value < low, some value > high): which ends of the colour bar get an overflow arrow."""
     values = _finite_scalar(scalar)
+    low, high = _arguments.real(low, "low"), _arguments.real(high, "high")
     return bool(values.size and values.min() < low), bool(values.size and values.max() > high)
 
 
@@ -300,13 +301,14 @@ def render(V: ArrayLike, F: ArrayLike | Polygons, path: PathLike | None = None, 
         wire = n_faces <= (grid_width // columns) * (grid_height // rows) / 100
     options = dict(
         width=0, height=0, supersample=supersample, smooth_shading=not flat,
-        crease_angle_deg=float(crease_angle),
-        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=float(wireframe_width),
+        crease_angle_deg=_arguments.real(crease_angle, "crease_angle"),
+        lighting=bool(lighting), wireframe=bool(wire), wireframe_width=_arguments.real(wireframe_width, "wireframe_width"),
         front_color=_unit_color(color, "color"), back_color=_unit_color(back_color, "back_color"),
         wireframe_color=_WIREFRAME_COLOR, transparent_background=transparent,
         scalar=scalar, scalar_min=0.0 if low is None else float(low),
         scalar_max=1.0 if high is None else float(high), colormap=cmap, uv=uv,
-        checker_size=0.0 if checker_size is None else float(checker_size), wireframe_edges=wireframe_edges)
+        checker_size=0.0 if checker_size is None else _arguments.real(checker_size, "checker_size"),
+        wireframe_edges=wireframe_edges)
 
     labels = []
     for index, (azimuth, elevation) in enumerate(angles):

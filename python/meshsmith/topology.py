@@ -21,6 +21,7 @@ inputs are checked by the C++ core; bad input raises :class:`meshsmith.InputErro
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal, NamedTuple, overload
 
@@ -198,8 +199,9 @@ class MeshInfo(Unpackable):
     n_non_manifold_vertices: int
     n_unreferenced_vertices: int
     bounding_box: tuple[FloatArray, FloatArray]  # (min, max), each (3,) over all vertices
-    surface_area: float
-    volume: float                   # signed; meaningful for closed oriented meshes
+    surface_area: float             # +inf when beyond the double range (see notes)
+    volume: float                   # signed; meaningful for closed oriented meshes; ±inf beyond the range
+    notes: tuple[str, ...] = ()     # what could not be represented, e.g. a volume beyond the double range
 
     def as_dict(self) -> dict[str, Any]:
         """The figures as plain Python values (JSON-ready): the bounding box as two lists."""
@@ -238,7 +240,7 @@ class MeshInfo(Unpackable):
             ("volume", f"{self.volume:.6g}"
              + ("" if self.n_boundary_edges == 0 and self.is_oriented
                 else "  (not closed and oriented: not a true volume)")),
-        ]
+        ] + [("note", note) for note in self.notes]
         width = max(len(name) for name, _ in rows)
         return "\n".join(f"{name:<{width}}  {value}" for name, value in rows)
 
@@ -250,6 +252,9 @@ def info(V: ArrayLike, F: ArrayLike | Polygons) -> MeshInfo:
     corners (a (k, 4) quad mesh) or :class:`meshsmith.io.Polygons`. Polygons count as faces and
     their sides as edges; the rest is measured on their fan triangulation (same vertices, fans,
     boundary and χ; area and volume of the fans for non-planar polygons). Runs in O(m log m).
+    The surface area and volume are computed in the normalized frame and scaled back: at
+    coordinates whose area or volume exceeds the double range (a volume at 1e150) they are ±inf
+    and ``notes`` says so; the call does not fail for it.
     Raises InputError for bad input (empty, out-of-range index, NaN/Inf).
     """
     from .io import Polygons
@@ -266,9 +271,25 @@ def info(V: ArrayLike, F: ArrayLike | Polygons) -> MeshInfo:
         counts["n_faces"] = len(polygons)
         counts["n_edges"] -= int((polygons.sizes - 3).sum())
     points = np.asarray(V, dtype=np.float64)
+    # Area and volume in the normalized frame (core/normalization.h: V / 2^e, exact), scaled back by
+    # 2^(2e) and 2^(3e) when that fits in a double; ±inf and a note when it does not (a volume at
+    # coordinates of 1e150 is ~1e450), instead of the InputError geometry.volume raises.
+    exponent = _core.normalizing_exponent(points)
+    normalized = np.ldexp(points, -exponent)
+    notes = []
+    measures = {}
+    for name, function, power in (("surface area", _geometry.surface_area, 2), ("volume", _geometry.volume, 3)):
+        value = float(function(normalized, F))
+        try:
+            measures[name] = math.ldexp(value, power * exponent)
+        except OverflowError:
+            measures[name] = math.copysign(math.inf, value)
+            notes.append(f"the {name} is about 2^{math.frexp(value)[1] + power * exponent}, beyond the double "
+                         f"range; {measures[name]} stands for it")
     return MeshInfo(
         **counts,
         bounding_box=(points.min(axis=0), points.max(axis=0)),
-        surface_area=float(_geometry.surface_area(V, F)),
-        volume=float(_geometry.volume(V, F)),
+        surface_area=measures["surface area"],
+        volume=measures["volume"],
+        notes=tuple(notes),
     )

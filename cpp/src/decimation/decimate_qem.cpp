@@ -1254,6 +1254,8 @@ QemResult decimate_qem(const VertexRef& V, const FaceRef& F, const QemOptions& o
   result.V = frame.vertices_to_input(result.V, "decimate: output vertex");
   // The largest cost in input units: +∞ when it exceeds the double range (coordinates of 1e300
   // give squared distances of 1e600), a figure the caller can still compare.
+  result.max_collapse_error_normalized = result.max_collapse_error;
+  result.max_collapse_error_exponent = error_power * frame.exponent;
   result.max_collapse_error = std::ldexp(result.max_collapse_error, error_power * frame.exponent);
   const auto back = [&](Eigen::Vector3d& p) {
     const VertexMatrix row = frame.vertices_to_input(p.transpose(), "decimate: a recorded collapse position");

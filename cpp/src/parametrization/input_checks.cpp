@@ -1,6 +1,7 @@
 #include "input_checks.h"
 
 #include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
 #include <meshsmith/core/validation.h>
 #include <meshsmith/topology/boundary.h>
 #include <meshsmith/topology/characteristics.h>
@@ -32,9 +33,22 @@ void check_faces(const VertexRef& V, const FaceRef& F, const char* function) {
     }
     const Eigen::Vector3d p = V.row(a), q = V.row(b), r = V.row(c);
     if ((q - p).cross(r - p).squaredNorm() == 0.0) {
-      fail(function, "face " + std::to_string(f) + " has zero area (collinear corners, or a face some 1e80 "
-                     "times smaller than the mesh, such as next to one far vertex): remove or repair "
-                     "degenerate faces first");
+      Eigen::Vector3d ab, ac;
+      const CoordinateFrame own = triangle_edge_vectors(V.row(a).data(), V.row(b).data(), V.row(c).data(), ab, ac);
+      if (ab.cross(ac).squaredNorm() == 0.0)
+        fail(function, "face " + std::to_string(f) + " has zero area (collinear corners): remove or repair "
+                       "degenerate faces first");
+      // A true triangle whose area is below the double range in the mesh's frame: the maps solve
+      // one linear system over the whole mesh, in one scale, which cannot hold both it and a vertex
+      // that far away (its own-frame figures would be fine, the system's coefficients are not).
+      Eigen::Index far = 0, column = 0;
+      V.cwiseAbs().maxCoeff(&far, &column);
+      const int mesh_exponent = normalizing_frame(V).exponent;
+      fail(function, "face " + std::to_string(f) + " is about 2^" + std::to_string(mesh_exponent - own.exponent) +
+                         " times smaller than the mesh, whose largest coordinate is at vertex " + std::to_string(far) +
+                         ": one linear system over the whole mesh cannot hold both scales (the face's area is "
+                         "below the double range in it); move or remove that far vertex, or "
+                         "parametrize the parts separately");
     }
     used[a] = used[b] = used[c] = 1;
   }

@@ -4,23 +4,60 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import Any
 
 import numpy as np
 
 from .. import io, repair, topology
-from ..repair.clean import CLEAN_COUNTS
+from ..repair.clean import CLEAN_COUNTS, CleanReport
 from .common import MESH_SUFFIXES, ProgressBar, add_command, check_output, integer, number, read_mesh
+
+#: The six orders of a triangle's corners: rotations, then reflections.
+_CORNER_ORDERS = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1], [0, 2, 1], [2, 1, 0], [1, 0, 2]])
+
+
+def cleaned_attributes(mesh: io.MeshData, V2: np.ndarray, F2: np.ndarray, report: CleanReport) -> dict[str, Any]:
+    """The input's attributes on the cleaned mesh, as write_mesh keywords: per-vertex colours (and
+    per-vertex normals / UVs, whose index equals F) through report.vertex_map, face colours through
+    report.face_map, per-corner normals and UVs through face_map with each output corner matched to
+    its input corner (clean may reverse a face or renumber its corners: the order of the input
+    corners whose positions match the output's, V_out == V_in[vertex_map])."""
+    V, F = np.asarray(mesh.V), np.asarray(mesh.F)
+    source = F[report.face_map]                              # (m', 3) input corners of each output face
+    exponent = int(np.frexp(np.abs(V).max())[1]) if V.size else 0
+    inside, outside = np.ldexp(V[source], -exponent), np.ldexp(V2[F2], -exponent)
+    cost = ((outside[:, None, :, :] - inside[:, _CORNER_ORDERS, :]) ** 2).sum(axis=(2, 3))
+    order = _CORNER_ORDERS[cost.argmin(axis=1)]             # output corner k = input corner order[f, k]
+    rows = np.arange(len(F2))[:, None]
+    kept: dict[str, Any] = {}
+    if mesh.colors is not None:
+        kept["colors"] = mesh.colors[report.vertex_map]
+    if mesh.face_colors is not None:
+        kept["face_colors"] = mesh.face_colors[report.face_map]
+    for values, index, value_name, index_name in ((mesh.normals, mesh.F_normal, "normals", "F_normal"),
+                                                  (mesh.UV, mesh.F_uv, "UV", "F_uv")):
+        if values is None:
+            continue
+        index = np.asarray(index)
+        if np.array_equal(index, F):  # per vertex: follows the vertices
+            kept[value_name], kept[index_name] = values[report.vertex_map], F2
+        else:                          # per corner: follows the corners
+            kept[value_name], kept[index_name] = values, index[report.face_map][rows, order]
+    return kept
 
 
 def command_clean(args: argparse.Namespace) -> int:
-    V, F = read_mesh(args.input)
+    mesh = io.read_mesh(args.input, return_attributes=True)  # triangulated: F is an (m, 3) array
+    V, F = mesh.V, np.asarray(mesh.F)
     V2, F2, report = repair.clean(V, F, merge_tolerance=None if args.no_merge else args.merge_tolerance,
                                   remove_degenerate=not args.keep_degenerate,
                                   split_non_manifold=not args.no_split, orient=not args.no_orient,
                                   min_component_faces=args.min_component_faces)
-    io.write_mesh(args.output, V2, F2)
+    attributes = cleaned_attributes(mesh, V2, F2, report)
+    io.write_mesh(args.output, V2, F2, **attributes)
+    names = [name for name in ("normals", "UV", "colors", "face_colors") if name in attributes]
     print(f"{args.input}: {len(V):,} vertices, {len(F):,} faces -> {args.output}: {len(V2):,} vertices, "
-          f"{len(F2):,} faces")
+          f"{len(F2):,} faces" + (f", with {', '.join(names)}" if names else ""))
     width = max(len(words) for words in CLEAN_COUNTS.values())
     for name, count in report.counts().items():
         print(f"  {CLEAN_COUNTS[name]:<{width}}  {count:,}")

@@ -162,6 +162,8 @@ class ProgressiveMesh:
                                  f"got shape {selected.shape}")
         elif near is not None:
             point = _arguments.finite(_arguments.real_array(near, "near"), "near")
+            if radius is not None:
+                radius = _arguments.real(radius, "radius")
             if point.shape != (3,) or radius is None or not radius >= 0:
                 raise InputError("refine_where: near must be a finite 3D point and radius >= 0")
             selected = np.linalg.norm(P - point, axis=1) <= radius

@@ -24,9 +24,12 @@ class DecimationReport(Unpackable):
     vertex_origin: (n',) int64, the input vertex each output vertex was (output vertices are
     input vertices that survived, possibly moved). max_error: the largest cost of a performed
     collapse (for ``cost="quadric"`` in length² units: a sum of squared distances to the planes of
-    the merged input faces, each weighted by its area over the mean face area). target_reached:
-    whether ``target_faces`` was reached (False when ``max_error`` stopped it first or no further
-    collapse was admissible). collapse_count: collapses performed. split_vertex_origin: empty, or
+    the merged input faces, each weighted by its area over the mean face area); +inf when it
+    exceeds the double range (a length² cost from coordinates of about 1e154 on), and then
+    ``max_error_normalized · 2**max_error_exponent`` still states it: the cost in the normalized
+    frame the decimation ran in (core/normalization.h) and the power of two that maps it to input
+    units. target_reached: whether ``target_faces`` was reached (False when ``max_error`` stopped
+    it first or no further collapse was admissible). collapse_count: collapses performed. split_vertex_origin: empty, or
     when the input had non-manifold or inconsistently oriented vertices, the input vertex of each
     working vertex (the input's followed by the copies made to split them). collapses: with
     ``record_collapses=True``, the collapses in order as arrays ``removed, kept, left, right``
@@ -41,6 +44,8 @@ class DecimationReport(Unpackable):
     collapse_count: int
     split_vertex_origin: IndexArray
     collapses: dict[str, np.ndarray] | None = None
+    max_error_normalized: float = 0.0
+    max_error_exponent: int = 0
 
 
 class DecimatedMesh(NamedTuple):
@@ -109,11 +114,14 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
         raise InputError("decimate: give target_faces or ratio, not both")
     target = 0
     if ratio is not None:
+        ratio = _arguments.real(ratio, "ratio")
         if not 0 < ratio <= 1:
             raise InputError(f"decimate: ratio must be in (0, 1], got {ratio}")
         target = max(1, int(round(ratio * len(_arguments.index_array(F, "F", 3)))))
     elif target_faces is not None:
         target = _arguments.integer(target_faces, "target_faces", 1, 2 ** 63 - 1)
+    if max_error is not None:
+        max_error = _arguments.real(max_error, "max_error")
     if max_error is not None and not max_error > 0:
         raise InputError(f"decimate: max_error must be > 0, got {max_error}")
     if target == 0 and max_error is None:
@@ -123,7 +131,8 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
     V2, F2, report = _core.decimate_qem(
         V, F, target_faces=target, max_error=max_error or 0.0, operator=operator, cost=cost,
         candidates=candidates or 0, seed=seed, prevent_normal_flips=prevent_normal_flips,
-        max_normal_deviation_deg=max_normal_deviation or 0.0, min_triangle_quality=min_quality or 0.0,
+        max_normal_deviation_deg=0.0 if max_normal_deviation is None else _arguments.real(max_normal_deviation, "max_normal_deviation"),
+        min_triangle_quality=0.0 if min_quality is None else _arguments.real(min_quality, "min_quality"),
         max_valence=max_valence or 0, keep_boundary=keep_boundary,
         record_collapses=record_collapses, parallel=parallel, progress=progress)
     if not return_report:
@@ -131,4 +140,5 @@ def decimate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None, rat
     return DecimatedMesh(V2, F2, DecimationReport(
         vertex_origin=report["vertex_origin"], max_error=report["max_error"],
         target_reached=report["target_reached"], collapse_count=report["collapse_count"],
-        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses")))
+        split_vertex_origin=report["split_vertex_origin"], collapses=report.get("collapses"),
+        max_error_normalized=report["max_error_normalized"], max_error_exponent=report["max_error_exponent"]))

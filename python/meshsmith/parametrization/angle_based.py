@@ -4,11 +4,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass as _dataclass
 
+import numpy as np
+
+from .. import _arguments
+from .._core import InputError
 from .._core import parametrization as _core
 from .._deprecation import positional_options
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, ProgressCallback
-from ..repair.unreferenced import on_referenced_vertices
+from ..repair.unreferenced import on_referenced_vertices, referenced_indices
 
 __all__ = ["AbfResult", "abf", "uv_from_angles"]
 
@@ -70,7 +74,8 @@ def abf(V: ArrayLike, F: ArrayLike, *, method: str = "abf++", max_iterations: in
     if the residual is still above tolerance after max_iterations (the message gives it).
     """
     mesh = on_referenced_vertices(V, F)
-    result = _core.abf(mesh.V, mesh.F, method, max_iterations, float(tolerance), float(minimum_angle), progress)
+    result = _core.abf(mesh.V, mesh.F, method, max_iterations, _arguments.real(tolerance, "tolerance"),
+                         _arguments.real(minimum_angle, "minimum_angle"), progress)
     return AbfResult(**{**result, "uv": mesh.to_input_rows(result["uv"])})
 
 
@@ -83,10 +88,30 @@ def uv_from_angles(F: ArrayLike, angles: ArrayLike, *, n_vertices: int | None = 
     pinned vertices. Angles satisfying ABF's conditions are reproduced exactly.
 
     F: (m, 3) int array. angles: (m, 3) float array in (0, pi), column k at corner k.
-    n_vertices: number of vertices (default: max index + 1; every vertex must be used).
-    pinned: two vertex indices (default: F[0, 0] and F[0, 1]); pinned_uv: (2, 2) their
-    positions (default (0, 0) and (1, 0)).
+    n_vertices: number of vertices (default: max index + 1). Vertices no face uses get NaN rows
+    (the layout is made on the used ones, as the other parametrizations do).
+    pinned: two vertex indices, used by some face (default: F[0, 0] and F[0, 1]); pinned_uv:
+    (2, 2) their positions (default (0, 0) and (1, 0)).
     Returns (n_vertices, 2) float UV. Raises InputError for bad shapes, an angle outside
-    (0, pi), bad pins or an unused vertex; SolverError if the faces are not edge-connected.
+    (0, pi), bad pins or a pin on an unused vertex; SolverError if the faces are not edge-connected.
     """
-    return _core.uv_from_angles(F, angles, n_vertices, pinned, pinned_uv)  # the binding checks every argument
+    faces = _arguments.index_array(F, "F", 3)
+    count = (int(faces.max()) + 1 if faces.size else 0) if n_vertices is None else n_vertices
+    if (faces.size == 0 or faces.min() < 0 or not isinstance(count, (int, np.integer)) or isinstance(count, bool)
+            or count < faces.max() + 1 or count > _arguments.MAX_ELEMENTS):
+        return _core.uv_from_angles(F, angles, n_vertices, pinned, pinned_uv)  # the binding names what is wrong
+    vertex_map, new_index = referenced_indices(faces, int(count))
+    if new_index is None:
+        return _core.uv_from_angles(F, angles, n_vertices, pinned, pinned_uv)  # the binding checks every argument
+    if pinned is not None:
+        pins = _arguments.index_array(pinned, "pinned")
+        used = np.zeros(int(count), dtype=bool)
+        used[vertex_map] = True
+        for pin in pins:
+            if 0 <= pin < count and not used[pin]:
+                raise InputError(f"pinned vertex {int(pin)} is used by no face: pin two vertices of the faces")
+        pinned = np.where((pins >= 0) & (pins < count), new_index[np.clip(pins, 0, int(count) - 1)], pins)
+    uv = _core.uv_from_angles(new_index[faces], angles, len(vertex_map), pinned, pinned_uv)
+    out = np.full((int(count), 2), np.nan)
+    out[vertex_map] = uv
+    return out

@@ -102,7 +102,12 @@ def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: P
         order = np.argsort(components.face_labels, kind="stable")
         chart_faces = np.split(order, np.cumsum(np.bincount(components.face_labels))[:-1])
         charts = [on_referenced_vertices(V, F[faces]) for faces in chart_faces]
-    flattened = [_flatten_chart(chart.V, chart.F, method, progress) for chart in charts]
+    flattened = []
+    for index, chart in enumerate(charts):  # the stages between the maps' own reports (lscm, harmonic and
+        # tutte report nothing themselves: one sparse factorization and solve each)
+        _arguments.report(progress, 0.9 * index / len(charts), f"{method}: chart {index + 1} of {len(charts)}")
+        flattened.append(_flatten_chart(chart.V, chart.F, method, progress))
+    _arguments.report(progress, 0.9, "distortion and bijectivity")
 
     # The atlas on the input's vertex numbering: input vertices first, seam copies appended.
     copies = [len(chart_uv) - len(chart.V) for chart, (_, chart_uv) in zip(charts, flattened)]
@@ -130,8 +135,10 @@ def parametrize(V: ArrayLike, F: ArrayLike, *, method: str = "lscm", progress: P
                       vertex_origin=np.concatenate(origin), seam_edges=seam_edges)
     mesh_V = V if cut is None else cut.V
     used_uv = np.where(np.isnan(uv), 0.0, uv)   # unreferenced rows touch no face
-    return Parametrization(mesh_V, F_out, uv, cut, method, geometry.triangle_distortion(mesh_V, F_out, used_uv),
-                           is_bijective(used_uv, F_out))
+    result = Parametrization(mesh_V, F_out, uv, cut, method, geometry.triangle_distortion(mesh_V, F_out, used_uv),
+                             is_bijective(used_uv, F_out))
+    _arguments.report(progress, 1.0, "parametrize")
+    return result
 
 
 def _flatten_chart(V: np.ndarray, F: np.ndarray, method: str, progress: ProgressCallback) -> tuple[CutMesh | None, np.ndarray]:

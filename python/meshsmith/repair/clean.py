@@ -131,7 +131,7 @@ def merge_close_vertices(V: ArrayLike, *, tolerance: float = 0.0) -> tuple[np.nd
     groups are numbered in the order of their representative, the lowest vertex index in each.
     Raises InputError for a negative or non-finite tolerance, or bad V.
     """
-    tolerance = float(tolerance)
+    tolerance = _arguments.real(tolerance, "tolerance")
     if not (np.isfinite(tolerance) and tolerance >= 0):
         raise InputError(f"merge tolerance must be a finite number >= 0, got {tolerance!r}")
     P = _arguments.finite(_arguments.real_array(V, "V", 3), "V")
@@ -193,6 +193,7 @@ def clean(V: ArrayLike, F: ArrayLike, *, merge_tolerance: float | None = 0.0, re
     face_map = np.arange(len(F1), dtype=np.int64)
 
     if merge_tolerance is not None:
+        merge_tolerance = _arguments.real(merge_tolerance, "merge_tolerance")
         group, representatives = merge_close_vertices(V1, tolerance=merge_tolerance)
         if len(representatives) < len(V1):
             counts["merged_vertices"] = len(V1) - len(representatives)

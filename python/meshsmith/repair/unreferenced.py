@@ -42,6 +42,7 @@ class ReferencedMesh(Unpackable):
         """Per-vertex values of this mesh, (k, ...) -> (n, ...) on the input's vertex indices,
         `fill` (NaN by default) in the rows of the unreferenced vertices."""
         values = _arguments.numbers(values, "values")
+        fill = _arguments.real(fill, "fill")
         if values.ndim == 0 or len(values) != len(self.vertex_map):
             raise InputError(f"values has shape {values.shape}: expected one row per vertex of the mesh "
                              f"({len(self.vertex_map)}, ...)")
@@ -101,10 +102,19 @@ def on_referenced_vertices(V: ArrayLike, F: ArrayLike) -> ReferencedMesh:
     _core.validate_mesh(V, F)
     V = np.asarray(V, dtype=np.float64)
     F = np.asarray(F)
-    used = np.zeros(len(V), dtype=bool)
-    used[F.ravel()] = True
-    if used.all():
-        return ReferencedMesh(V, F, np.arange(len(V), dtype=np.int64), len(V))
-    vertex_map = np.flatnonzero(used).astype(np.int64)
-    new_index = np.cumsum(used, dtype=np.int64) - 1
+    vertex_map, new_index = referenced_indices(F, len(V))
+    if new_index is None:
+        return ReferencedMesh(V, F, vertex_map, len(V))
     return ReferencedMesh(V[vertex_map], new_index[F], vertex_map, len(V))
+
+
+def referenced_indices(F: np.ndarray, n_vertices: int) -> tuple[IndexArray, IndexArray | None]:
+    """(vertex_map, new_index) of faces F (indices checked to be in [0, n_vertices)): vertex_map
+    (k,) int64 the vertices some face uses, ascending; new_index (n,) int64 each vertex's index
+    among them (-1 unused rows' values are meaningless), or None when every vertex is used (then
+    vertex_map is arange(n)). The index part of on_referenced_vertices, for functions without V."""
+    used = np.zeros(n_vertices, dtype=bool)
+    used[np.asarray(F).ravel()] = True
+    if used.all():
+        return np.arange(n_vertices, dtype=np.int64), None
+    return np.flatnonzero(used).astype(np.int64), np.cumsum(used, dtype=np.int64) - 1

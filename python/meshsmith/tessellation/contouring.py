@@ -134,7 +134,7 @@ def is_r_sample(samples: ArrayLike, R: float) -> bool:
 
     if not (isinstance(R, (int, float, np.floating, np.integer)) and R > 0):
         raise InputError(f"is_r_sample: R must be a positive number, got {R!r}")
-    return sampling_ratio(samples) <= float(R)
+    return sampling_ratio(samples) <= _arguments.real(R, "R")
 
 
 def crust_3d(points: ArrayLike, *, cocone_angle: float = np.pi / 8,
@@ -164,5 +164,5 @@ def crust_3d(points: ArrayLike, *, cocone_angle: float = np.pi / 8,
     0.35 from 225 (about 2 samples per square minor radius); the result then keeps every point.
     Raises InputError if a precondition fails; Cancelled if progress returns False.
     """
-    V, F = _core.crust_3d(points, float(cocone_angle), max_hole_edges, progress)
+    V, F = _core.crust_3d(points, _arguments.real(cocone_angle, "cocone_angle"), max_hole_edges, progress)
     return Mesh(V, F)

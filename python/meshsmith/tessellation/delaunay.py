@@ -163,10 +163,10 @@ def refine(P: ArrayLike, segments: ArrayLike | None, holes: ArrayLike | None = N
     Raises InputError as constrained_delaunay or for a bad min_angle / max_area; SolverError
     when more than max_steiner_points points would be inserted (so it never hangs).
     """
-    area = 0.0 if max_area is None else float(max_area)
+    area = 0.0 if max_area is None else _arguments.real(max_area, "max_area")
     if max_area is not None and not area > 0:
         raise InputError(f"max_area: must be > 0 or None, got {max_area}")
-    V, F, steiner = _core.refine(P, _segments(segments), _seeds(holes), float(min_angle), area, max_steiner_points,
+    V, F, steiner = _core.refine(P, _segments(segments), _seeds(holes), _arguments.real(min_angle, "min_angle"), area, max_steiner_points,
                                  progress)
     return RefinedMesh(V, F, int(steiner))
 

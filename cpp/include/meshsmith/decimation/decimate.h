@@ -79,6 +79,11 @@ struct QemResult {
   /// Largest cost of a performed collapse (units of the cost, input coordinates): +∞ when that
   /// exceeds the double range (squared distances of a mesh of size 1e155 and beyond).
   double max_collapse_error = 0;
+  /// The same cost in the normalized frame the decimation ran in (core/normalization.h), and the
+  /// power of two that maps it to input units: max_collapse_error = max_collapse_error_normalized ·
+  /// 2^max_collapse_error_exponent, which stays usable where the product overflows.
+  double max_collapse_error_normalized = 0;
+  int max_collapse_error_exponent = 0;
   bool target_reached = false;    ///< target_faces reached (false: stopped by max_error or stuck)
   Eigen::Index collapse_count = 0;  ///< number of collapses performed
   /// Empty when the input was used as is. Otherwise the input vertex of each working vertex
