@@ -74,7 +74,7 @@ void bind_quadrangulation(py::module_& m) {
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("align") = "curvature", py::arg("sharp_angle") = 0.0,
      py::arg("constraint_faces") = py::none(), py::arg("constraint_directions") = py::none(),
-     py::arg("curvature_weight") = 0.01, py::arg("progress") = py::none(),
+     py::arg("curvature_weight") = 1e-3, py::arg("progress") = py::none(),
      "A cross field (§5.2.2 step 1); see meshsmith.quadrangulation.cross_field.");
 
   m.def("field_angles", [](const py::object& V, const py::object& F, const py::object& directions) {

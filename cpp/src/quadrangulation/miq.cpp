@@ -17,8 +17,9 @@
 //    refactorization. Measured on a 100k-face mesh: see benchmarks/bench_quadrangulation.py.
 // 3. The continuous unknowns are solved with the integers held (the held rows and columns
 //    replaced by the identity, so every re-solve reuses the symbolic analysis), and triangles
-//    that come out flipped are stiffened and the map re-solved, a few rounds (stopping after
-//    three without fewer flips). The flips this leaves (6 of 69,666 on pmp-bunny at 3,000 quads)
+//    that come out flipped are stiffened and the map re-solved, a few rounds (a round with more
+//    flips is undone and the factor softened; stopping after three without fewer flips). The
+//    flips this leaves (7 of 69,666 on pmp-bunny at 3,000 quads)
 //    sit at valence-5 cones whose fan has an obtuse triangle holding ~160° of the cone's 450° in
 //    the continuous map, folded when the rounding moves the cone; moving the integers those
 //    vertices depend on by ±1 (a re-solve each) was tried and removed none of them.
@@ -432,7 +433,12 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   // Each round stiffens the faces flipped in the best map so far (× stiffening) and the faces
   // around their corners (× √stiffening). (A region grown by one ring per round did worse on
   // pmp-bunny: 16 flips left instead of 6.)
+  // A round that leaves more flips is undone (the weights go back to the best map's) and the
+  // factor drops to its square root: at ×5 without backtracking rocker-arm kept all 13 of its
+  // flips (every round overshot), with it 13 → 7 (at 3,000 quads).
   int stalled = 0;
+  double factor = options.stiffening;
+  Eigen::VectorXd best_weight = weight;
   for (int round = 0; round < options.repair_iterations && result.flipped_after > 0; ++round) {
     progress.report(0.8 + 0.2 * round / std::max(1, options.repair_iterations), "miq: repair");
     std::vector<char> stiffen(m, 0);
@@ -443,7 +449,7 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
     }
     for (Eigen::Index f = 0; f < m; ++f) {
       // capped: beyond ~1e4 against the other faces the system loses its definiteness in floating point
-      if (stiffen[f]) weight[f] = std::min(1e4, weight[f] * (flipped[f] ? options.stiffening : std::sqrt(options.stiffening)));
+      if (stiffen[f]) weight[f] = std::min(1e4, weight[f] * (flipped[f] ? factor : std::sqrt(factor)));
     }
     reduced_system(H, g);
     Eigen::VectorXd candidate = y;
@@ -458,8 +464,11 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
       result.uv = uv;
       result.flipped_after = count;
       flipped = std::move(now_flipped);
+      best_weight = weight;
     } else {
       ++stalled;
+      weight = best_weight;
+      factor = std::sqrt(factor);
     }
     if (stalled >= 3) break;  // three rounds without fewer flips: more stiffening does not help (pmp-bunny)
   }
