@@ -74,6 +74,12 @@ def quality(V_in, F_in, V, F):
     return holes, manifold, kept, missing, angle
 
 
+def _meshfix_repair(pymeshfix, V, F):
+    fix = pymeshfix.MeshFix(V, F)
+    fix.repair()
+    return fix.points, fix.faces
+
+
 def compare(name, V, F):
     loops = len(topology.boundary_loops(F))
     bench = Benchmark("repair", f"fill the {loops} holes of {name} ({len(F):,} faces after clean)")
@@ -86,9 +92,7 @@ def compare(name, V, F):
             return fix.points, fix.faces
 
         def meshfix_repair():
-            fix = pymeshfix.MeshFix(V, F)
-            fix.repair()
-            return fix.points, fix.faces
+            return _meshfix_repair(pymeshfix, V, F)
         bench.time("pymeshfix MeshFix.fill_holes (refined)", meshfix_fill)
         bench.time("pymeshfix MeshFix.repair", meshfix_repair, same_work=False)
     pymeshlab = optional("pymeshlab")
@@ -195,11 +199,7 @@ def volumetric(directory):
         bench.time("meshsmith", lambda: repair.volumetric_repair(V2, F2, epsilon=epsilon))
         pymeshfix = optional("pymeshfix")
         if pymeshfix:
-            def meshfix_repair():
-                fix = pymeshfix.MeshFix(V2, F2)
-                fix.repair()
-                return fix.points, fix.faces
-            bench.time("pymeshfix MeshFix.repair", meshfix_repair, same_work=False)
+            bench.time("pymeshfix MeshFix.repair", lambda: _meshfix_repair(pymeshfix, V2, F2), same_work=False)
         bench.report()
         Vo, Fo, report = bench.output("meshsmith")
         bench.check("self-intersecting pairs in the output", len(repair.self_intersections(Vo, Fo)), 0)
