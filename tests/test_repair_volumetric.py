@@ -161,3 +161,20 @@ def test_fandisk_sharp_edges_survive(data_dir):
     # Features kept to a fraction of a cell (a voxel surface would round them by up to a cell).
     assert feature.max() <= epsilon
     assert np.median(feature) < 0.1 * h
+
+
+@pytest.mark.parametrize("name", ["armadillo.obj", "bunny.off", "camelhead.off", "cubes_complex_edge.obj",
+                                  "cubes_complex_vertex.obj", "hand_lowres.obj", "plane_holes.obj",
+                                  "stanford-bunny.obj", "torus.obj"])
+def test_shared_meshes_come_out_watertight(data_dir, name):
+    """Open, holed, non-manifold and closed shared meshes: always closed, manifold, oriented, embedded."""
+    V, F = read_mesh(data_dir / name)
+    epsilon = float(np.ptp(V, axis=0).max()) / 30
+    V2, F2, report = repair.volumetric_repair(V, F, epsilon=epsilon, rho=epsilon)
+    assert_watertight(V2, F2)
+    assert SurfaceDistance(V, F).distances(V2).max() <= epsilon + rho_bound(epsilon)
+
+
+def rho_bound(rho):
+    """How far a closed hole's patch may lie from the input: up to the closing radius, plus a cell."""
+    return rho + rho / np.sqrt(3)

@@ -452,7 +452,7 @@ VolumetricResult volumetric_repair(const VertexRef& V, const FaceRef& F, const V
     progress.subrange(0.8, 1.0).report(std::min(0.95, round / 20.0), "untangle");
     const EdgeMatrix pairs = self_intersections(X, result.F);
     if (pairs.rows() == 0) break;
-    if (round >= 24) {
+    if (round >= 64) {
       X = corner;  // the voxel surface itself: embedded
       std::fill(moved.begin(), moved.end(), 1);
       break;
@@ -466,7 +466,7 @@ VolumetricResult volumetric_repair(const VertexRef& V, const FaceRef& F, const V
     for (Eigen::Index v = 0; v < nv; ++v) {
       if (!hit[v]) continue;
       moved[v] = 1;
-      X.row(v) = round < 16 ? (0.5 * (X.row(v) + corner.row(v))).eval() : corner.row(v);
+      X.row(v) = round < 8 ? (0.5 * (X.row(v) + corner.row(v))).eval() : corner.row(v);
     }
   }
   for (auto m : moved) report.untangled_vertices += m;
