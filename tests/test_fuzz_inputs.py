@@ -190,6 +190,7 @@ VALID = {
                                        "pinned_uv": np.array([[0.0, 0.0], [1.0, 0.0]])},
     "repair.fill_holes": {"F": SPHERE_F[1:], "holes": [0]},
     "repair.stitch_boundaries": {"F": SPHERE_F[1:], "tolerance": 1e-3},
+    "repair.volumetric_repair": {"epsilon": 0.3},
     "repair.ReferencedMesh.to_input_rows": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                             "values": SPHERE_V[:, :2].copy()},
     "repair.ReferencedMesh.to_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),

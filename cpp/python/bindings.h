@@ -23,6 +23,7 @@ void bind_repair(pybind11::module_& m);
 void bind_repair_holes(pybind11::module_& m);           // module.cpp calls these three on "repair" too
 void bind_repair_intersections(pybind11::module_& m);
 void bind_repair_degenerate(pybind11::module_& m);
+void bind_repair_volumetric(pybind11::module_& m);
 void bind_smoothing(pybind11::module_& m);
 void bind_registration(pybind11::module_& m);
 void bind_reconstruction_depth(pybind11::module_& m);     // on "reconstruction"

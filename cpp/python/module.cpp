@@ -38,6 +38,7 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_repair_holes(repair);
   meshsmith::python::bind_repair_intersections(repair);
   meshsmith::python::bind_repair_degenerate(repair);
+  meshsmith::python::bind_repair_volumetric(repair);
   auto smoothing = m.def_submodule("smoothing");
   meshsmith::python::bind_smoothing(smoothing);
   auto registration = m.def_submodule("registration");

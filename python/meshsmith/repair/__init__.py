@@ -6,7 +6,7 @@ int64 arrays, with maps back to the input's indices. Bad input raises :class:`me
 
 Modules, one per algorithm family: ``unreferenced``, ``orient``, ``clean``, ``holes`` (hole filling,
 §2.4.1), ``intersections`` (self-intersecting face pairs), ``degenerate`` (needles and caps), ``stitching`` (cracks and
-T-junctions between boundaries).
+T-junctions between boundaries), ``volumetric`` (volumetric repair, §2.4.2).
 """
 from .clean import CleanMesh, CleanReport, clean, merge_close_vertices
 from .degenerate import NeedlesAndCaps, remove_needles_and_caps
@@ -15,8 +15,9 @@ from .intersections import self_intersections
 from .orient import OrientedFaces, orient_faces
 from .stitching import StitchedMesh, stitch_boundaries
 from .unreferenced import ReferencedMesh, remove_unreferenced
+from .volumetric import VolumetricMesh, VolumetricReport, volumetric_repair
 
 __all__ = ["clean", "CleanMesh", "CleanReport", "merge_close_vertices", "orient_faces", "OrientedFaces",
            "remove_unreferenced", "ReferencedMesh", "fill_holes", "FilledMesh", "FillHolesReport", "HolePatch",
            "self_intersections", "remove_needles_and_caps", "NeedlesAndCaps",
-           "stitch_boundaries", "StitchedMesh"]
+           "stitch_boundaries", "StitchedMesh", "volumetric_repair", "VolumetricMesh", "VolumetricReport"]
