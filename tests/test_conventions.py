@@ -13,11 +13,22 @@ import numpy as np
 import pytest
 
 import meshsmith
-from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, reconstruction,
-                       registration, render, repair, tessellation,
-from meshsmith import (core, datasets, decimation, geometry, io, parametrization, points, quadrangulation, render, repair,
-                       tessellation,
-                       topology)
+from meshsmith import (
+    core,
+    datasets,
+    decimation,
+    geometry,
+    io,
+    parametrization,
+    points,
+    quadrangulation,
+    reconstruction,
+    registration,
+    render,
+    repair,
+    tessellation,
+    topology,
+)
 from meshsmith._results import Unpackable
 
 #: Every chapter module (a new chapter is picked up by itself); cli and demo are front ends.

@@ -210,6 +210,7 @@ VALID = {
     "deformation.arap_energy": {"U": 1.1 * SPHERE_V},
     "smoothing.bilaplacian": {"fixed": np.array([0, 5, 9])},
     "deformation.poisson_edit": {"handle": np.array([0, 1]), "fixed": np.array([30, 31]),
+                                 "handle_positions": SPHERE_V[[0, 1]] + 0.1},
     "deformation.multiresolution_edit": {"fixed": np.array([0, 1, 30]), "base_edit": 1.1 * SPHERE_V},
     "smoothing.laplacian": {"fixed": np.array([0, 3]), "epsilon_ball": 0.05},
     "smoothing.taubin": {"fixed": np.array([1]), "error_slab": 0.05},
@@ -224,6 +225,7 @@ VALID = {
     "reconstruction.depth_to_points": {"depth": np.full((6, 7), 2.0), "fx": 5.0, "fy": 5.0, "cx": 3.0, "cy": 3.0,
                                        "mask": np.ones((6, 7), bool)},
     "reconstruction.depth_to_mesh": {"depth": np.full((6, 7), 2.0), "fx": 5.0, "fy": 5.0, "cx": 3.0, "cy": 3.0,
+                                     "mask": np.ones((6, 7), bool)},
     "reconstruction.scanline_to_points": {"depths": np.ones(10), "center": np.zeros(2), "direction": np.ones(2)},
     "quadrangulation.field_angles": {"field": np.tile([1.0, 0.0, 0.0], (len(SPHERE_F), 1))},
     "quadrangulation.singularities": {"field": np.linspace(0.0, 1.0, len(SPHERE_F))},
@@ -263,7 +265,6 @@ NAN_ALLOWED: dict[str, tuple] = {
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",
              "repair.ReferencedMesh.from_input_indices", "smoothing.transfer_function",
              "deformation.harmonic"}  # bc: (#b, c) for any number c of value columns
-             "repair.ReferencedMesh.from_input_indices"}
 #: Face parameters that take polygons of any size as (m, s) arrays, s >= 3 (quad meshes): more
 #: columns are valid input there.
 POLYGON_FACES = {("render.render", "F"), ("render.render_uv_layout", "F"), ("topology.info", "F"),

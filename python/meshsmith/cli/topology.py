@@ -14,9 +14,10 @@ from .common import add_command, read_faces
 def command_info(args: argparse.Namespace) -> int:
     V, F = read_faces(args.file)  # quads and other polygons count as themselves
     summary = topology.info(V, F)
-    triangles = F
     if isinstance(F, io.Polygons) or F.shape[1] > 3:
         triangles = (F if isinstance(F, io.Polygons) else io.Polygons.from_array(F)).fan_triangles()[0]
+    else:
+        triangles = F
     defects = repair.find_defects(V, triangles, intersections=True if args.intersections else None)
     if args.json:
         print(json.dumps({**summary.as_dict(), "defects": defects.counts()}, indent=2))

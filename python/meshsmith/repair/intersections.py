@@ -143,9 +143,9 @@ def remove_self_intersections(V: ArrayLike, F: ArrayLike, *, max_rounds: int = 6
         chosen = [i for i, loop in enumerate(loops) if opened[loop].any()]
         if chosen:
             n_before, m_before = len(V1), len(F1)
-            V1, F1, report = fill_holes(V1, F1, holes=chosen, refine=refine, fair=fair, progress=progress)
-            filled += report.filled
-            unfilled += len(report.unfilled)
+            V1, F1, fills = fill_holes(V1, F1, holes=chosen, refine=refine, fair=fair, progress=progress)
+            filled += fills.filled
+            unfilled += len(fills.unfilled)
             vertex_map = np.concatenate([vertex_map, np.full(len(V1) - n_before, -1, dtype=np.int64)])
             face_origin = np.concatenate([face_origin, np.full(len(F1) - m_before, -1, dtype=np.int64)])
         V1, F1, used = remove_unreferenced(V1, F1)
