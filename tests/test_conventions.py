@@ -49,6 +49,13 @@ def square_grid_map():
     return V, F, 3 * V[F][:, :, :2]
 
 
+def poked_sphere():
+    V, F = datasets.icosphere(2)
+    V = V.copy()
+    V[0] *= -1.3      # through the centre and out of the far side: self-intersections
+    return V, F
+
+
 def sphere_with_unused_vertex():
     V, F = datasets.icosphere(1)
     return np.vstack([V, [[5.0, 5.0, 5.0]]]), F[:, ::-1]   # inward faces, one vertex no face uses
@@ -211,6 +218,12 @@ RESULTS = {
                                 ["loop", "faces", "vertices"]),
     "repair.clean report": (lambda tmp: repair.clean(*sphere_with_unused_vertex()).report,
                             [field.name for field in dataclasses.fields(repair.CleanReport)]),
+    "repair.remove_self_intersections": (lambda tmp: repair.remove_self_intersections(*poked_sphere()),
+                                         ["V", "F", "report"]),
+    "repair.remove_self_intersections report": (
+        lambda tmp: repair.remove_self_intersections(*poked_sphere()).report, ["initial_pairs", "remaining_pairs"]),
+    "repair.find_defects": (lambda tmp: repair.find_defects(*sphere_with_hole()),
+                            [field.name for field in dataclasses.fields(repair.MeshDefectCounts)]),
     "quadrangulation.extract_quads": (lambda tmp: quadrangulation.extract_quads(*square_grid_map()), ["V", "Q"]),
     "quadrangulation.extract_quads report": (
         lambda tmp: quadrangulation.extract_quads(*square_grid_map()).report,

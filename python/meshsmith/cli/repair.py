@@ -109,6 +109,10 @@ def command_repair(args: argparse.Namespace) -> int:
         lines.append(f"stitch: {stitched.merged_vertices:,} boundary vertices merged, {stitched.inserted_vertices:,} "
                      f"T-junctions inserted; boundary edges {stitched.boundary_edges_before:,} -> "
                      f"{stitched.boundary_edges_after:,}")
+    if args.remove_self_intersections:
+        V1, F1, removal = repair.remove_self_intersections(V1, F1, progress=ProgressBar())
+        lines += [f"self-intersections: {line}" for line in removal.lines()]
+        record["self_intersections"] = removal.counts()
     if args.fill_holes:
         V1, F1, filled = repair.fill_holes(V1, F1, max_hole_edges=args.max_hole, keep_border=args.keep_border,
                                            progress=ProgressBar())
@@ -142,14 +146,16 @@ def register_repair(commands: argparse._SubParsersAction[argparse.ArgumentParser
         commands, "repair", help="repair a mesh: clean, stitch cracks, fill holes; report what changed",
         description="Repair a triangle mesh (§2.4): clean it (as `meshsmith clean`, with --needles-and-caps "
                     "also collapsing needles and flipping caps), stitch boundary vertices and T-junctions "
-                    "closer than --stitch, fill its holes with --fill-holes (Liepa: minimal-weight "
+                    "closer than --stitch, cut out self-intersecting faces and fill the holes this leaves "
+                    "with --remove-self-intersections (repeated until none is left, at most 6 rounds), fill its holes with --fill-holes (Liepa: minimal-weight "
                     "triangulation, refinement, bi-Laplacian fairing; --max-hole N fills only loops of at "
                     "most N edges, --keep-border leaves open the rim of an open surface), then count what is "
                     "left: boundary loops and self-intersecting face pairs. Prints what was fixed; "
                     "--report writes it all as JSON, with each patch's largest dihedral angle and "
                     "edge-length ratio.",
         examples=["meshsmith repair mesh.off -o repaired.obj",
-                  "meshsmith repair disk.obj -o closed.obj --fill-holes --max-hole 100 --report report.json"])
+                  "meshsmith repair disk.obj -o closed.obj --fill-holes --max-hole 100 --report report.json",
+                  "meshsmith repair mesh.off -o fixed.ply --remove-self-intersections --fill-holes"])
     command.add_argument("input", help="mesh file (.obj, .ply, .off, .stl)")
     command.add_argument("-o", "--output", required=True, help="repaired mesh file (format from the extension)")
     command.add_argument("--fill-holes", action="store_true", help="fill the holes (every boundary loop by default)")
@@ -160,6 +166,8 @@ def register_repair(commands: argparse._SubParsersAction[argparse.ArgumentParser
                               "twice as long as each other (a scan's rim)")
     command.add_argument("--stitch", type=number(0.0, open_low=True), default=None, metavar="D",
                          help="stitch boundary vertices and T-junctions closer than D")
+    command.add_argument("--remove-self-intersections", action="store_true",
+                         help="cut out the self-intersecting faces and fill the holes this leaves, until none is left")
     command.add_argument("--needles-and-caps", action="store_true",
                          help="collapse needles and flip caps while cleaning")
     command.add_argument("--report", metavar="FILE", help="write what was changed as JSON")

@@ -13,7 +13,7 @@ from .parametrization import stage_parametrization
 from .pipeline import STAGES, run_demo
 from .registration import stage_registration
 from .render import stage_pictures
-from .repair import stage_clean
+from .repair import stage_clean, stage_repair
 from .smoothing import stage_smoothing
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
@@ -26,6 +26,7 @@ __all__ = [
     "builtin_shape",
     "html_report",
     "stage_clean",
+    "stage_repair",
     "stage_input",
     "stage_pictures",
     "stage_curvature",

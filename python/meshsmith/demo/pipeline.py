@@ -19,7 +19,7 @@ from .registration import stage_registration
 from .quadrangulation import stage_quadrangulation
 from .reconstruction import stage_poisson
 from .render import stage_pictures
-from .repair import stage_clean
+from .repair import stage_clean, stage_repair
 from .smoothing import stage_smoothing
 from .report import html_report
 from .tessellation import stage_crust, stage_tessellation
@@ -39,6 +39,7 @@ STAGES = [
     stage_parametrization,
     stage_registration,
     stage_quadrangulation,
+    stage_repair,
 ]
 
 

@@ -5,13 +5,15 @@ Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3); results come back
 int64 arrays, with maps back to the input's indices. Bad input raises :class:`meshsmith.InputError`.
 
 Modules, one per algorithm family: ``unreferenced``, ``orient``, ``clean``, ``holes`` (hole filling,
-§2.4.1), ``intersections`` (self-intersecting face pairs), ``degenerate`` (needles and caps), ``stitching`` (cracks and
-T-junctions between boundaries), ``volumetric`` (volumetric repair, §2.4.2).
+§2.4.1), ``intersections`` (self-intersecting face pairs, and their removal), ``degenerate`` (needles and caps),
+``stitching`` (cracks and T-junctions between boundaries), ``volumetric`` (volumetric repair, §2.4.2), ``defects``
+(counting what is wrong).
 """
 from .clean import CleanMesh, CleanReport, clean, merge_close_vertices
+from .defects import MeshDefectCounts, find_defects
 from .degenerate import NeedlesAndCaps, remove_needles_and_caps
 from .holes import FilledMesh, FillHolesReport, HolePatch, fill_holes
-from .intersections import self_intersections
+from .intersections import IntersectionFreeMesh, IntersectionRemoval, remove_self_intersections, self_intersections
 from .orient import OrientedFaces, orient_faces
 from .stitching import StitchedMesh, stitch_boundaries
 from .unreferenced import ReferencedMesh, remove_unreferenced
@@ -19,5 +21,7 @@ from .volumetric import VolumetricMesh, VolumetricReport, volumetric_repair
 
 __all__ = ["clean", "CleanMesh", "CleanReport", "merge_close_vertices", "orient_faces", "OrientedFaces",
            "remove_unreferenced", "ReferencedMesh", "fill_holes", "FilledMesh", "FillHolesReport", "HolePatch",
-           "self_intersections", "remove_needles_and_caps", "NeedlesAndCaps",
-           "stitch_boundaries", "StitchedMesh", "volumetric_repair", "VolumetricMesh", "VolumetricReport"]
+           "self_intersections", "remove_self_intersections", "IntersectionFreeMesh", "IntersectionRemoval",
+           "remove_needles_and_caps", "NeedlesAndCaps",
+           "stitch_boundaries", "StitchedMesh", "volumetric_repair", "VolumetricMesh", "VolumetricReport",
+           "find_defects", "MeshDefectCounts"]
