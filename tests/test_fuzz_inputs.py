@@ -243,7 +243,7 @@ VALID = {
     "reconstruction.sample_grid": {"bounds": np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 1.0]]), "resolution": 5},
     "reconstruction.poisson": {"depth": 4, "coarse_depth": 3, "max_iterations": 50},
     "reconstruction.trim_by_density": {"density": np.linspace(0.0, 1.0, 42)},
-    "reconstruction.graph_cut": {"resolution": 8},
+    "reconstruction.graph_cut": {"P": datasets.sphere_points(400, seed=1)[0], "resolution": 16},
     "reconstruction.max_flow": {"node_count": 3, "edges": np.array([[0, 1], [1, 2]]), "capacities": np.ones(2),
                                 "reverse_capacities": np.zeros(2), "source": np.array([1.0, 0, 0]),
                                 "sink": np.array([0, 0, 1.0])},

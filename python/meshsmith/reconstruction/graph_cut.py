@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from .. import _arguments
 from .._core import reconstruction as _core
 from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
 
@@ -77,4 +78,5 @@ def graph_cut(P: ArrayLike, *, resolution: int = 64, crust: float = 2.0, exponen
     the samples wider than the crust: raise `crust`, or give `inside`). Time: the distance
     queries (grid points · log n) and the max-flow on the crust; memory about 20 bytes per grid point.
     """
-    return GraphCutMesh(**_core.graph_cut(P, resolution, crust, exponent, inside, progress))
+    return GraphCutMesh(**_core.graph_cut(P, resolution, _arguments.real(crust, "crust"),
+                                          _arguments.real(exponent, "exponent"), inside, progress))
