@@ -249,6 +249,10 @@ RESULTS = {
     "reconstruction.trim_by_density": (
         lambda tmp: meshsmith.reconstruction.trim_by_density(*datasets.icosphere(1), np.arange(42.0)),
         ["V", "F", "vertex_map"]),
+    "reconstruction.graph_cut": (lambda tmp: meshsmith.reconstruction.graph_cut(datasets.sphere_points(400, seed=1)[0], resolution=16),
+                                 ["V", "F", "shape", "origin", "voxel_size", "cut", "free_voxels", "inside_voxels"]),
+    "reconstruction.max_flow": (lambda tmp: meshsmith.reconstruction.max_flow(2, [[0, 1]], [1.0], [0.0], [1.0, 0], [0, 1.0]),
+                                ["flow", "source_side"]),
 }
 
 

@@ -32,4 +32,5 @@ void bind_deformation(pybind11::module_& m);
 void bind_quadrangulation(pybind11::module_& m);
 void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
 void bind_reconstruction(pybind11::module_& m);
+void bind_reconstruction_graph_cut(pybind11::module_& m);  // on "reconstruction"
 }  // namespace meshsmith::python

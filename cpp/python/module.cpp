@@ -46,6 +46,7 @@ PYBIND11_MODULE(_core, m) {
   auto reconstruction = m.def_submodule("reconstruction");
   meshsmith::python::bind_reconstruction(reconstruction);
   meshsmith::python::bind_reconstruction_depth(reconstruction);
+  meshsmith::python::bind_reconstruction_graph_cut(reconstruction);
   meshsmith::python::bind_smoothing_fairing(smoothing);
   auto deformation = m.def_submodule("deformation");
   meshsmith::python::bind_deformation(deformation);

@@ -170,10 +170,23 @@ void parallel_rows(Int n, const Body& body) {
 
 }  // namespace
 
-PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptions& options, const Progress& progress) {
+void validate_surface_samples(const VertexRef& P) {
   validate_vertices(P, "P");
   if (P.rows() < 4)
     throw InputError("P has " + std::to_string(P.rows()) + " points: expected at least 4 samples");
+  // All points on a line (or one point) span no surface.
+  const double extent = (P.colwise().maxCoeff() - P.colwise().minCoeff()).maxCoeff();
+  const Eigen::RowVector3d mean = P.colwise().mean();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (Eigen::Index s = 0; s < P.rows(); ++s) covariance += (P.row(s) - mean).transpose() * (P.row(s) - mean);
+  const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  if (!(extent > 0.0) || !(eigenvalues[1] > 1e-12 * eigenvalues[2]))
+    throw InputError(extent > 0.0 ? "P: all points lie on one line: expected samples of a surface"
+                                  : "P: all points coincide: expected samples of a surface");
+}
+
+PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptions& options, const Progress& progress) {
+  validate_surface_samples(P);
   if (N.rows() != P.rows())
     throw InputError("N has " + std::to_string(N.rows()) + " rows and P " + std::to_string(P.rows()) +
                      ": expected one normal per sample");
@@ -203,18 +216,9 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
                        ": expected a non-zero normal per sample");
     normals.row(s) = N.row(s) / length;
   }
-  // The bounding cube; all points on a line (or one point) span no surface.
+  // The bounding cube.
   const Eigen::RowVector3d lower = P.colwise().minCoeff(), upper = P.colwise().maxCoeff();
   const double extent = (upper - lower).maxCoeff();
-  {
-    const Eigen::RowVector3d mean = P.colwise().mean();
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (Int s = 0; s < m; ++s) covariance += (P.row(s) - mean).transpose() * (P.row(s) - mean);
-    const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
-    if (!(extent > 0.0) || !(eigenvalues[1] > 1e-12 * eigenvalues[2]))
-      throw InputError(extent > 0.0 ? "P: all points lie on one line: expected samples of a surface"
-                                    : "P: all points coincide: expected samples of a surface");
-  }
   const double size = options.scale * extent;
   const Eigen::RowVector3d corner = 0.5 * (lower + upper) - Eigen::RowVector3d::Constant(0.5 * size);
   VertexMatrix X(m, 3);  // unit-cube positions

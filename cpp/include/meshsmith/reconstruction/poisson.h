@@ -64,6 +64,10 @@ struct PoissonResult {
 ///      options within the ranges above.
 /// \throw InputError if a precondition fails (naming the row or option). \throw Cancelled.
 /// Time and memory O(#P + band cells at the finest level), about O(4^depth) for a surface.
+/// The samples' checks of poisson() and graph_cut(): P finite, at least 4 rows, not all on one
+/// line or at one point. \throw InputError naming the failure.
+void validate_surface_samples(const VertexRef& P);
+
 PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptions& options = {},
                       const Progress& progress = {});
 
