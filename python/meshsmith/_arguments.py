@@ -12,6 +12,10 @@ the caller's arrays are never written to.
 """
 from __future__ import annotations
 
+import functools
+import inspect
+from typing import Callable, ParamSpec, TypeVar
+
 import numpy as np
 
 from ._core import Cancelled, InputError
@@ -21,6 +25,9 @@ from ._typing import BoolArray, FloatArray, ProgressCallback
 #: The most elements (faces, points, samples) a function makes from a count it is given: 2^26,
 #: several GB of arrays, rather than exhausting memory.
 MAX_ELEMENTS = 2 ** 26
+
+P = ParamSpec("P")
+R = TypeVar("R")
 
 
 def numbers(value: object, name: str, elements: str = "real") -> np.ndarray:
@@ -63,6 +70,31 @@ def real(value: object, name: str) -> float:
         shown = repr(value)
         raise InputError(f"{name} = {shown if len(shown) <= 60 else shown[:57] + '...'}: expected a real number")
     return float(value)
+
+
+def real_options(function: Callable[P, R]) -> Callable[P, R]:
+    """Decorator: every parameter of `function` annotated ``float`` (or ``float | None``) goes through
+    `real` before the body runs, so that a string, list, bool (or None where None is not allowed)
+    given for a float option is an InputError naming the option, not pybind11's TypeError from the
+    binding below. Other parameters pass untouched; a wrong call (unknown keyword) stays a TypeError."""
+    signature = inspect.signature(function)
+    options = {}
+    for name, parameter in signature.parameters.items():
+        annotation = parameter.annotation if isinstance(parameter.annotation, str) else getattr(
+            parameter.annotation, "__name__", str(parameter.annotation))
+        kinds = {part.strip() for part in annotation.replace("Optional[", "").rstrip("]").split("|")}
+        if "float" in kinds and kinds <= {"float", "None", "int"}:
+            options[name] = "None" in kinds
+
+    @functools.wraps(function)
+    def checked(*args: P.args, **kwargs: P.kwargs) -> R:
+        bound = signature.bind(*args, **kwargs)
+        for name, none_allowed in options.items():
+            if name in bound.arguments and not (none_allowed and bound.arguments[name] is None):
+                bound.arguments[name] = real(bound.arguments[name], name)
+        return function(*bound.args, **bound.kwargs)
+
+    return checked
 
 
 def progress(callback: ProgressCallback) -> ProgressCallback:

@@ -57,6 +57,7 @@ class Singularities(Unpackable):
 FieldLike = Union[CrossField, ArrayLike]
 
 
+@_arguments.real_options
 def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constraints: object = None,
                 sharp_angle: float | None = None, curvature_weight: float = 1e-3,
                 progress: ProgressCallback = None) -> CrossField:

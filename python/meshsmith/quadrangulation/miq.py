@@ -43,6 +43,7 @@ class MiqResult(Unpackable):
     target_edge_length: float
 
 
+@_arguments.real_options
 def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: float | None = None,
         target_quads: int | None = None, round_singularities: bool = True, round_translations: bool = True,
         repair_iterations: int = 10, stiffening: float = 5.0, progress: ProgressCallback = None) -> MiqResult:

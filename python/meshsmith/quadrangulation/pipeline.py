@@ -74,6 +74,7 @@ def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCall
     return report
 
 
+@_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
                   sharp_angle: float | None = None, progress: ProgressCallback = None) -> Quadrangulation:

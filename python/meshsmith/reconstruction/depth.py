@@ -37,6 +37,7 @@ class ScanlinePoints(NamedTuple):
     segments: IndexArray  #: (s, 2) int64 rows of points joined (neighbours without a depth jump)
 
 
+@_arguments.real_options
 def depth_to_points(depth: ArrayLike, fx: float, fy: float, cx: float, cy: float, *,
                     mask: ArrayLike | None = None, depth_scale: float = 1.0) -> DepthPoints:
     """Back-project a depth image through a pinhole camera (§2.3).
@@ -56,6 +57,7 @@ def depth_to_points(depth: ArrayLike, fx: float, fy: float, cx: float, cy: float
     return DepthPoints(*_core.depth_to_points(image, fx, fy, cx, cy, flags, depth_scale))
 
 
+@_arguments.real_options
 def depth_to_mesh(depth: ArrayLike, fx: float, fy: float, cx: float, cy: float, *,
                   mask: ArrayLike | None = None, depth_scale: float = 1.0, max_jump: float = 0.05) -> DepthMesh:
     """A triangle mesh of a depth image: neighbouring pixels joined except across depth
@@ -76,6 +78,7 @@ def depth_to_mesh(depth: ArrayLike, fx: float, fy: float, cx: float, cy: float, 
     return DepthMesh(*_core.depth_to_mesh(image, fx, fy, cx, cy, flags, depth_scale, max_jump))
 
 
+@_arguments.real_options
 def scanline_to_points(depths: ArrayLike, *, center: ArrayLike = (0.0, 0.0), direction: ArrayLike = (0.0, 1.0),
                        opening_angle: float = np.pi / 3, max_jump: float = 0.05) -> ScanlinePoints:
     """The 2D case of §2.3: a 1D depth camera at ``center`` looking along ``direction`` with

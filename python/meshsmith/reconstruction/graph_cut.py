@@ -56,6 +56,7 @@ def max_flow(node_count: int, edges: ArrayLike, capacities: ArrayLike, reverse_c
     return MinimumCut(float(flow), side)
 
 
+@_arguments.real_options
 def graph_cut(P: ArrayLike, *, resolution: int = 64, crust: float = 2.0, exponent: float = 4.0,
               inside: ArrayLike | None = None, progress: ProgressCallback = None) -> GraphCutMesh:
     """A watertight surface through unoriented samples by a minimum cut (Hornung & Kobbelt 2006).

@@ -6,6 +6,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from .. import _arguments
 from .._core import reconstruction as _core
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 
@@ -29,6 +30,7 @@ class ContourMesh(NamedTuple):
     evaluations: int
 
 
+@_arguments.real_options
 def marching_cubes(values: ArrayLike, *, origin: ArrayLike = (0.0, 0.0, 0.0), spacing: ArrayLike = (1.0, 1.0, 1.0),
                    iso: float = 0.0, progress: ProgressCallback = None) -> ContourMesh:
     """The iso-surface ``values == iso`` of a field sampled on a regular grid, as a triangle mesh.
@@ -47,6 +49,7 @@ def marching_cubes(values: ArrayLike, *, origin: ArrayLike = (0.0, 0.0, 0.0), sp
     return ContourMesh(**_core.marching_cubes(values, origin, spacing, iso, progress))
 
 
+@_arguments.real_options
 def marching_cubes_sparse(field: Callable[[FloatArray], ArrayLike], *, shape: ArrayLike, seeds: ArrayLike,
                           origin: ArrayLike = (0.0, 0.0, 0.0), spacing: ArrayLike = (1.0, 1.0, 1.0),
                           iso: float = 0.0, block_size: int = 8, dilation: int = 0,

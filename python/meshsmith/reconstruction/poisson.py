@@ -45,6 +45,7 @@ class TrimmedMesh(NamedTuple):
     vertex_map: IndexArray
 
 
+@_arguments.real_options
 def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.0, samples_per_node: float = 1.5,
             scale: float = 1.1, coarse_depth: int = 5, band: int = 1, refinement: int = 10, max_iterations: int = 300,
             tolerance: float = 1e-4, progress: ProgressCallback = None) -> PoissonMesh:
@@ -70,6 +71,7 @@ def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.
                                        refinement, max_iterations, tolerance, progress))
 
 
+@_arguments.real_options
 def trim_by_density(V: ArrayLike, F: ArrayLike, density: ArrayLike, *, quantile: float = 0.05,
                     threshold: float | None = None) -> TrimmedMesh:
     """Remove the vertices whose density is below a threshold (by default the `quantile` of the

@@ -54,6 +54,7 @@ def tangent_plane_sdf(P: ArrayLike, N: ArrayLike, Q: ArrayLike, *, k: int = 1,
     return _core.tangent_plane_sdf(P, N, Q, k, progress)
 
 
+@_arguments.real_options
 def winding_number(V: ArrayLike, F: ArrayLike, Q: ArrayLike, *, accuracy: float = 4.0,
                    progress: ProgressCallback = None) -> FloatArray:
     """Generalized winding number of the triangle mesh (V, F) at the query points Q (Jacobson et

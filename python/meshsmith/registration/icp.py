@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from .. import _arguments
 from .._core import InputError
 from .._core import registration as _core
 from .._typing import ArrayLike, BoolArray, FloatArray, ProgressCallback
@@ -31,6 +32,7 @@ class IcpResult(NamedTuple):
     inliers: BoolArray
 
 
+@_arguments.real_options
 def icp(source: ArrayLike, target: ArrayLike, *, method: str = "point_to_point", max_iterations: int = 50,
         tolerance: float = 1e-6, max_distance: float | None = None, trim: float = 1.0,
         voxel_size: float | None = None, target_normals: ArrayLike | None = None, normal_neighbours: int = 16,
@@ -72,6 +74,7 @@ def icp(source: ArrayLike, target: ArrayLike, *, method: str = "point_to_point",
                                 progress))
 
 
+@_arguments.real_options
 def voxel_downsample(P: ArrayLike, voxel_size: float) -> FloatArray:
     """One point per occupied cube of edge ``voxel_size`` (a grid anchored at the points'
     minimum corner): the centroid of the points of P (n, 3) in it, the cubes in lexicographic

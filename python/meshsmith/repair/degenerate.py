@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _arguments
 from .._core import repair as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray
@@ -36,6 +37,7 @@ class NeedlesAndCaps(Unpackable):
     unpacks = ("V", "F")
 
 
+@_arguments.real_options
 def remove_needles_and_caps(V: ArrayLike, F: ArrayLike, *, needle_ratio: float = 10.0, cap_angle: float = 160.0,
                             max_passes: int = 10) -> NeedlesAndCaps:
     """Remove needles and caps (§2.4) without changing the topology.

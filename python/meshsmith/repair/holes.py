@@ -99,6 +99,7 @@ class FilledMesh(NamedTuple):
     report: FillHolesReport
 
 
+@_arguments.real_options
 def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, max_hole_edges: int | None = None,
                max_hole_diameter: float | None = None, keep_border: bool = False, search: str = "delaunay",
                refine: bool = True, fair: bool = True, density: float = float(np.sqrt(2.0)),

@@ -9,6 +9,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components as _graph_components
 
+from .. import _arguments
 from .._core import InputError
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray
@@ -107,6 +108,7 @@ def _insert_t_junctions(V: FloatArray, F: np.ndarray, face_map: np.ndarray,
     return F, face_map, len(split_sides), count
 
 
+@_arguments.real_options
 def stitch_boundaries(V: ArrayLike, F: ArrayLike, *, tolerance: float) -> StitchedMesh:
     """Close the cracks and T-junctions between boundary loops that run side by side (§2.4.1).
 

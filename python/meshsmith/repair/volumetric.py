@@ -51,6 +51,7 @@ class VolumetricMesh(NamedTuple):
     report: VolumetricReport
 
 
+@_arguments.real_options
 def volumetric_repair(V: ArrayLike, F: ArrayLike, *, epsilon: float, rho: float = 0.0, smoothing: int = 3,
                       max_cells: int = 2 ** 25, progress: ProgressCallback = None) -> VolumetricMesh:
     """Rebuild a triangle soup as a closed, manifold, outward-oriented mesh (§2.4.2).

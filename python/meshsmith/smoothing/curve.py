@@ -3,7 +3,7 @@ cpp/src/smoothing/curve_smoothing.cpp).
 """
 from __future__ import annotations
 
-from .. import curves
+from .. import _arguments, curves
 from .._core import smoothing as _core
 from .._typing import ArrayLike, FloatArray, ProgressCallback
 from .laplacian import error_bound
@@ -11,6 +11,7 @@ from .laplacian import error_bound
 __all__ = ["smooth_curve"]
 
 
+@_arguments.real_options
 def smooth_curve(P: ArrayLike, *, lam: float = 0.5, mu: float | None = None, iterations: int = 10,
                  closed: bool = False, fixed: ArrayLike | None = None, epsilon_ball: float | None = None,
                  error_slab: float | None = None, progress: ProgressCallback = None) -> FloatArray:

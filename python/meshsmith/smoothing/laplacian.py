@@ -18,6 +18,7 @@ WEIGHTS = ("uniform", "cotan", "cotan_delaunay", "mean_value")
 DIRECTIONS = ("full", "normal", "tangential")
 
 
+@_arguments.real_options
 def error_bound(epsilon_ball: float | None, error_slab: float | None, function: str) -> tuple[str, float]:
     """The (bound, epsilon) pair the bindings take, from the two keyword options. Raises
     InputError when both are given (the bindings check epsilon itself: finite and > 0)."""
@@ -30,6 +31,7 @@ def error_bound(epsilon_ball: float | None, error_slab: float | None, function: 
     return "none", 0.0
 
 
+@_arguments.real_options
 def laplacian(V: ArrayLike, F: ArrayLike, *, weights: str = "uniform", lam: float = 0.5, iterations: int = 10,
               direction: str = "full", implicit: bool = False, fixed: ArrayLike | None = None,
               epsilon_ball: float | None = None, error_slab: float | None = None,
@@ -73,6 +75,7 @@ def laplacian(V: ArrayLike, F: ArrayLike, *, weights: str = "uniform", lam: floa
                                      bound, epsilon, progress)
 
 
+@_arguments.real_options
 def taubin(V: ArrayLike, F: ArrayLike, *, lam: float = 0.5, mu: float = -0.53, iterations: int = 10,
            weights: str = "uniform", direction: str = "full", fixed: ArrayLike | None = None,
            epsilon_ball: float | None = None, error_slab: float | None = None,
@@ -99,6 +102,7 @@ def taubin(V: ArrayLike, F: ArrayLike, *, lam: float = 0.5, mu: float = -0.53, i
                                   progress)
 
 
+@_arguments.real_options
 def transfer_function(k: ArrayLike, *, lam: float = 0.5, mu: float | None = -0.53, iterations: int = 1) -> FloatArray:
     """The factor by which smoothing scales a mode of -U of frequency k (§3.0.1).
 
