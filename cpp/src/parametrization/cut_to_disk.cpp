@@ -3,6 +3,7 @@
 #include <meshsmith/core/errors.h>
 #include <meshsmith/topology/boundary.h>
 #include <meshsmith/topology/characteristics.h>
+#include <meshsmith/topology/dual_walk.h>
 
 #include "input_checks.h"
 
@@ -78,24 +79,10 @@ void shortest_paths(const VertexRef& V, const EdgeIncidence& incidence, const Ve
 std::vector<char> pruned_cut_graph(const FaceRef& F, const EdgeIncidence& incidence, const VertexEdges& adjacency,
                                    const std::vector<char>& primal_tree) {
   const Eigen::Index n_faces = F.rows();
-  std::vector<char> keep(incidence.n_edges(), 1), reached(n_faces, 0);
-  std::deque<int> queue{0};
-  reached[0] = 1;
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    for (int k = 0; k < 3; ++k) {
-      const int e = incidence.side_edge[3 * f + k];
-      if (incidence.side_count(e) != 2 || primal_tree[e]) continue;
-      const int s0 = incidence.edge_sides[incidence.edge_offsets[e]];
-      const int s1 = incidence.edge_sides[incidence.edge_offsets[e] + 1];
-      const int g = (s0 / 3 == f) ? s1 / 3 : s0 / 3;
-      if (reached[g]) continue;
-      reached[g] = 1;
-      keep[e] = 0;  // the dual tree crosses e: the faces stay glued along it
-      queue.push_back(g);
-    }
-  }
+  std::vector<char> keep(incidence.n_edges(), 1);
+  const auto reached = topology::dual_spanning_tree(
+      incidence, n_faces, 0, [&](int e) { return primal_tree[e] != 0; },
+      [&](int, int e, int) { keep[e] = 0; });  // the dual tree crosses e: the faces stay glued along it
   if (std::find(reached.begin(), reached.end(), 0) != reached.end()) {
     throw SolverError("cut_to_disk: the dual spanning tree does not reach every face; please report this mesh");
   }

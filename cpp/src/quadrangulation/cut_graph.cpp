@@ -9,9 +9,9 @@
 #include "field_geometry.h"
 
 #include <meshsmith/core/errors.h>
+#include <meshsmith/topology/dual_walk.h>
 
 #include <algorithm>
-#include <deque>
 #include <string>
 
 namespace meshsmith::quadrangulation {
@@ -43,22 +43,8 @@ FieldCut cut_graph(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& 
     return static_cast<int>(std::lround((x - detail::quarter_residual(x)) / detail::kQuarter));
   };
   out.combed_theta = theta;
-  std::vector<char> reached(m, 0);
-  std::deque<int> queue{0};
-  reached[0] = 1;
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    for (int k = 0; k < 3; ++k) {
-      const int e = incidence.side_edge[3 * f + k];
-      if (incidence.side_count(e) != 2 || is_cut[e]) continue;
-      const int g = mesh.other_face(e, f);
-      if (reached[g]) continue;
-      reached[g] = 1;
-      out.combed_theta[g] -= detail::kQuarter * jump(e, f, out.combed_theta);
-      queue.push_back(g);
-    }
-  }
+  topology::dual_spanning_tree(incidence, m, 0, [&](int e) { return is_cut[e] != 0; },
+                               [&](int f, int e, int g) { out.combed_theta[g] -= detail::kQuarter * jump(e, f, out.combed_theta); });
   out.seam_jumps.resize(out.cut.seam_edges.rows());
   Eigen::Index s = 0;
   for (Eigen::Index e = 0; e < n_edges; ++e) {
