@@ -8,6 +8,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -33,6 +34,27 @@ double deterministic_face_sum(Eigen::Index n_faces, const Term& term) {
 /// no overflow or underflow in the cross product, whatever the coordinates.
 /// \throw InputError if the area itself exceeds the double range (a triangle of size 1e155).
 double triangle_area(const VertexRef& V, const FaceRef& F, Eigen::Index f) {
+  // Fast path: with every edge-vector component in [2^-250, 2^250] (or 0) the cross product can
+  // neither overflow nor underflow, and scaling by a power of two commutes with each rounding,
+  // so this gives the scaled computation's value bit for bit (a subnormal coordinate aside, where
+  // it is the more accurate of the two) without its frexp/ldexp calls.
+  const double* a = V.row(F(f, 0)).data();
+  const double* b = V.row(F(f, 1)).data();
+  const double* c = V.row(F(f, 2)).data();
+  const Eigen::Vector3d u(b[0] - a[0], b[1] - a[1], b[2] - a[2]), w(c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+  const double largest = std::max(u.cwiseAbs().maxCoeff(), w.cwiseAbs().maxCoeff());
+  constexpr double kHigh = 0x1p250, kLow = 0x1p-250;
+  if (largest <= kHigh) {
+    const double smallest_nonzero = [&] {
+      double m = kHigh;
+      for (int j = 0; j < 3; ++j) {
+        if (u(j) != 0.0) m = std::min(m, std::abs(u(j)));
+        if (w(j) != 0.0) m = std::min(m, std::abs(w(j)));
+      }
+      return m;
+    }();
+    if (smallest_nonzero >= kLow) return 0.5 * u.cross(w).norm();
+  }
   Eigen::Vector3d ab, ac;
   const CoordinateFrame frame = triangle_edge_vectors(V.row(F(f, 0)).data(), V.row(F(f, 1)).data(),
                                                       V.row(F(f, 2)).data(), ab, ac);
