@@ -206,7 +206,8 @@ _ATTRIBUTE_INDEX = {"normals": "F_normal", "UV": "F_uv", "colors": None, "face_c
 def _write_keeping_what_fits(path: str, V: np.ndarray, F: np.ndarray,
                              attributes: dict[str, Any]) -> tuple[list[str], dict[str, str]]:
     """Write the mesh with every attribute the format can hold: (names written, {name dropped: why})."""
-    attributes, dropped = dict(attributes), {}
+    attributes = dict(attributes)
+    dropped: dict[str, str] = {}
     while True:
         try:
             io.write_mesh(path, V, F, **attributes)

@@ -193,7 +193,8 @@ def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int)
     span = float(np.abs(V - centre).max()) if len(V) else 0.0
     P = np.ldexp(V - centre, -int(np.frexp(span)[1])) if span > 0 else V - centre
     a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
-    return np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0, minlength=count)
+    volumes = np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0, minlength=count)
+    return np.asarray(volumes, dtype=np.float64)
 
 
 def _orient_closed_outward(V: FloatArray, F: IndexArray, patches: tuple[HolePatch, ...]) -> tuple[IndexArray, int]:
