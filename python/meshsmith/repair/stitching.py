@@ -48,11 +48,14 @@ class StitchedMesh(Unpackable):
 
 def boundary_sides(F: np.ndarray) -> np.ndarray:
     """(k, 2) rows (face, corner where the side starts) of the sides no other face shares: the
-    boundary edges of F (m, 3)."""
-    sides = np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
-    key = np.sort(sides, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    boundary = np.flatnonzero(counts[inverse.reshape(-1)] == 1)
+    boundary edges of F (m, 3). O(m log m), on one int64 key per side."""
+    F = np.asarray(F, dtype=np.int64)
+    if not F.size:
+        return np.zeros((0, 2), dtype=np.int64)
+    start, end = F.ravel(), np.roll(F, -1, axis=1).ravel()      # side 3f + c runs from corner c to c + 1
+    key = np.minimum(start, end) * (int(F.max()) + 1) + np.maximum(start, end)
+    _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    boundary = np.flatnonzero(counts[inverse] == 1)
     return np.column_stack([boundary // 3, boundary % 3])
 
 
