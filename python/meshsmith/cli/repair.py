@@ -352,12 +352,16 @@ def register_repair(commands: argparse._SubParsersAction[argparse.ArgumentParser
                     "with --remove-self-intersections (repeated until none is left, at most 6 rounds), fill its holes with --fill-holes (Liepa: minimal-weight "
                     "triangulation, refinement, bi-Laplacian fairing; --max-hole N fills only loops of at "
                     "most N edges, --keep-border leaves open the rim of an open surface), then count what is "
-                    "left: boundary loops and self-intersecting face pairs. Prints what was fixed; "
-                    "--report writes it all as JSON, with each patch's largest dihedral angle and "
-                    "edge-length ratio.",
+                    "left: boundary loops and self-intersecting face pairs. --volumetric EPS instead "
+                    "rebuilds the whole surface closed and manifold on voxels of diagonal EPS (closing "
+                    "gaps up to about 2 x --rho). The input's normals, UVs and colours are kept where "
+                    "its faces survive and interpolated on new faces; one the output format cannot hold "
+                    "is dropped and named. Prints what was fixed; --report writes it all as JSON, with "
+                    "each patch's largest dihedral angle and edge-length ratio.",
         examples=["meshsmith repair mesh.off -o repaired.obj",
                   "meshsmith repair disk.obj -o closed.obj --fill-holes --max-hole 100 --report report.json",
-                  "meshsmith repair mesh.off -o fixed.ply --remove-self-intersections --fill-holes"])
+                  "meshsmith repair mesh.off -o fixed.ply --remove-self-intersections --fill-holes",
+                  "meshsmith repair disk.obj -o solid.ply --volumetric 0.05 --rho 0.1 --report report.json"])
     command.add_argument("input", help="mesh file (.obj, .ply, .off, .stl)")
     command.add_argument("-o", "--output", required=True, help="repaired mesh file (format from the extension)")
     command.add_argument("--fill-holes", action="store_true", help="fill the holes (every boundary loop by default)")
