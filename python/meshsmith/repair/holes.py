@@ -5,7 +5,7 @@ cpp/python/repair_holes.cpp, C++ src/repair/fill_holes.cpp."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal, NamedTuple, overload
 
 import numpy as np
 
@@ -184,17 +184,30 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
     return FilledMesh(V2, F2, report)
 
 
-def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int) -> FloatArray:
+@overload
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: Literal[False] = ...) -> FloatArray: ...
+@overload
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: Literal[True]) -> tuple[FloatArray, FloatArray]: ...
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: bool = False) -> FloatArray | tuple[FloatArray, FloatArray]:
     """(count,) signed volume of each group of faces (labels (m,) in [0, count)), by the divergence
     theorem about the vertices' centre, in coordinates scaled by a power of two (exact) so that
     neither 1e300 nor 1e-300 coordinates overflow or underflow: only the signs and ratios mean
-    something for coordinates that far out."""
+    something for coordinates that far out (they are exact for coordinates of ordinary size only
+    after multiplying by the scale cubed). With ``with_areas`` also each group's area, in the same
+    scaled coordinates (so a round-off bound on the volume is a small multiple of area^1.5)."""
     centre = V.mean(axis=0) if len(V) else np.zeros(3)
     span = float(np.abs(V - centre).max()) if len(V) else 0.0
     P = np.ldexp(V - centre, -int(np.frexp(span)[1])) if span > 0 else V - centre
     a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
-    volumes = np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0, minlength=count)
-    return np.asarray(volumes, dtype=np.float64)
+    volumes = np.asarray(np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0,
+                                     minlength=count), dtype=np.float64)
+    if not with_areas:
+        return volumes
+    areas = np.bincount(labels, weights=np.linalg.norm(np.cross(b - a, c - a), axis=1) / 2.0, minlength=count)
+    return volumes, np.asarray(areas, dtype=np.float64)
 
 
 def _orient_closed_outward(V: FloatArray, F: IndexArray, patches: tuple[HolePatch, ...]) -> tuple[IndexArray, int]:
@@ -208,7 +221,9 @@ def _orient_closed_outward(V: FloatArray, F: IndexArray, patches: tuple[HolePatc
     patched[labels[np.concatenate([p.faces for p in patches])]] = True
     open_ = np.zeros(count, dtype=bool)
     open_[labels[boundary_sides(F)[:, 0]]] = True
-    inside_out = patched & ~open_ & (signed_volumes(V, F, labels, count) < 0)
+    # Negative beyond round-off: a flat, two-sided piece (volume 0) keeps its orientation.
+    volumes, areas = signed_volumes(V, F, labels, count, with_areas=True)
+    inside_out = patched & ~open_ & (volumes < -1e-9 * areas ** 1.5)
     if not inside_out.any():
         return F, 0
     F = F.copy()
