@@ -43,6 +43,15 @@ def disk():
 def sphere_with_hole():
     V, F = datasets.icosphere(1)
     return V, F[1:]
+
+
+def sphere_halves():
+    """(VA, FA, VB, FB): two overlapping halves of an icosphere (for zipper)."""
+    V, F = datasets.icosphere(2)
+    height = V[F].mean(axis=1)[:, 2]
+    return V, F[height > -0.3], V, F[height < 0.3]
+
+
 def square_grid_map():
     """The unit square with UV = 3·(x, y) per corner: a seamless map whose grid is 3×3 quads."""
     V, F = datasets.grid(4, 4)
@@ -217,6 +226,9 @@ RESULTS = {
     "repair.volumetric_repair report": (lambda tmp: repair.volumetric_repair(*datasets.icosphere(1), epsilon=0.3).report,
                                         ["shape", "cell_size"]),
     "repair.fill_holes": (lambda tmp: repair.fill_holes(*sphere_with_hole()), ["V", "F", "report"]),
+    "repair.zipper": (lambda tmp: repair.zipper(*sphere_halves(), tolerance=1e-6), ["V", "F", "report"]),
+    "repair.zipper report": (lambda tmp: repair.zipper(*sphere_halves(), tolerance=1e-6).report,
+                             ["face_source", "face_map"]),
     "repair.fill_holes report": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report, ["patches", "unfilled"]),
     "repair.fill_holes patch": (lambda tmp: repair.fill_holes(*sphere_with_hole()).report.patches[0],
                                 ["loop", "faces", "vertices"]),

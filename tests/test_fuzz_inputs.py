@@ -191,6 +191,8 @@ VALID = {
     "repair.fill_holes": {"F": SPHERE_F[1:], "holes": [0]},
     "repair.stitch_boundaries": {"F": SPHERE_F[1:], "tolerance": 1e-3},
     "repair.volumetric_repair": {"epsilon": 0.3},
+    "repair.zipper": {"VA": SPHERE_V, "FA": SPHERE_F[SPHERE_V[SPHERE_F].mean(axis=1)[:, 2] > -0.3],
+                      "VB": SPHERE_V, "FB": SPHERE_F[SPHERE_V[SPHERE_F].mean(axis=1)[:, 2] < 0.3], "tolerance": 1e-6},
     "repair.ReferencedMesh.to_input_rows": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),
                                             "values": SPHERE_V[:, :2].copy()},
     "repair.ReferencedMesh.to_input_indices": {"owner": ("repair.remove_unreferenced", (UNREFERENCED_V, UNREFERENCED_V_FACES)),

@@ -9,6 +9,7 @@ import pytest
 
 import meshsmith
 from meshsmith import core, datasets, repair, topology
+from meshsmith.repair.holes import signed_volumes
 
 BASES = {
     "icosphere": lambda: datasets.icosphere(2),
@@ -71,7 +72,7 @@ def broken_mesh(seed):
 
 
 def test_broken_meshes_come_out_manifold_oriented_and_closed():
-    repaired, refused, patches = 0, 0, 0
+    repaired, refused, patches, reoriented = 0, 0, 0, 0
     for seed in range(CASES):
         V, F, what, nan_used = broken_mesh(seed)
         try:
@@ -90,11 +91,19 @@ def test_broken_meshes_come_out_manifold_oriented_and_closed():
         assert topology.is_manifold(F2) and topology.is_oriented(F2), f"case {seed} ({what})"
         assert core.mesh_defects(V2, F2).degenerate_faces.size == 0, what
         assert report.unfilled == () and topology.boundary_loops(F2) == [], f"case {seed} ({what}): {report}"
-        np.testing.assert_array_equal(F2[:len(F1)], F1)                     # every cleaned face kept
+        # Every cleaned face kept: as it was, or reversed with its whole component when the fill
+        # closed it inside out (then it is turned outward: no closed component has a negative volume).
+        kept, reversed_ = (F2[:len(F1)] == F1).all(axis=1), (F2[:len(F1)] == F1[:, [0, 2, 1]]).all(axis=1)
+        assert (kept | reversed_).all() and reversed_.any() == (report.reoriented_components > 0), what
+        components = topology.connected_components(F2, len(V2), connectivity="edge")
+        volumes, areas = signed_volumes(V2, F2, components.face_labels, components.count, with_areas=True)
+        assert (volumes >= -1e-9 * areas ** 1.5).all(), what              # flat two-sided pieces: 0
+        reoriented += report.reoriented_components
         repaired += 1
         patches += report.filled
     # the set really exercises both outcomes and real holes
     assert repaired >= CASES // 2 and refused >= 5 and patches >= 20, (repaired, refused, patches)
+    assert reoriented >= 1, reoriented        # some fills close an open piece inside out
 
 
 @pytest.mark.parametrize("seed", [3, 17, 42])

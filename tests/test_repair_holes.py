@@ -279,3 +279,52 @@ def test_cli_repair_fills_and_reports(tmp_path, capsys):
     assert cli.main(["repair", str(source), "-o", str(target), "--fill-holes", "--max-hole", "5"]) == 0
     assert "0 of 1 holes filled" in capsys.readouterr().out
     assert len(topology.boundary_loops(meshsmith.io.read_mesh(target)[1])) == 1
+
+
+# ---- orientation of the components the fill closes -----------------------------------------------
+
+def hemisphere(inward):
+    V, F = datasets.icosphere(3)
+    V, F, _ = repair.remove_unreferenced(V, F[V[F].mean(axis=1)[:, 2] > 0])
+    return V, (F[:, ::-1].copy() if inward else F)
+
+
+@pytest.mark.parametrize("inward", [True, False])
+def test_a_filled_hemisphere_faces_outward_whichever_way_its_faces_pointed(inward):
+    V, F = hemisphere(inward)
+    V2, F2, report = repair.fill_holes(V, F)
+    assert topology.boundary_loops(F2) == [] and topology.is_oriented(F2)
+    assert geometry.volume(V2, F2) > 0.9 * (2 / 3) * np.pi * 0.95      # about half the unit ball
+    assert report.reoriented_components == int(inward) == report.counts()["reoriented_components"]
+    # The input faces are the input's, reversed as a whole when the component was inside out.
+    np.testing.assert_array_equal(F2[:len(F)], F[:, [0, 2, 1]] if inward else F)
+    assert ("reversed to face outward" in str(report)) == inward
+
+
+def test_an_open_component_keeps_its_orientation_and_a_closed_one_is_not_touched():
+    V, F = hemisphere(inward=True)
+    W, G = datasets.icosphere(1)
+    G_inward = G[:, ::-1]                        # a closed, inside-out sphere: not the fill's business
+    both_V = np.vstack([V, W + [3.0, 0, 0]])
+    both_F = np.vstack([F, G_inward + len(V)])
+    _, F2, report = repair.fill_holes(both_V, both_F, max_hole_edges=3)   # fills nothing
+    np.testing.assert_array_equal(F2, both_F)
+    assert report.reoriented_components == 0
+    _, F3, report = repair.fill_holes(both_V, both_F)
+    assert report.reoriented_components == 1
+    np.testing.assert_array_equal(F3[len(F):len(both_F)], G_inward + len(V))   # the closed sphere as it was
+
+
+def test_cli_repair_fills_an_inward_hemisphere_outward(tmp_path, capsys):
+    import json
+
+    from meshsmith import cli
+    V, F = hemisphere(inward=True)
+    source, target, record = tmp_path / "in.off", tmp_path / "out.off", tmp_path / "report.json"
+    meshsmith.io.write_mesh(source, V, F)
+    assert cli.main(["repair", str(source), "-o", str(target), "--fill-holes", "--report", str(record)]) == 0
+    assert "1 closed components reversed to face outward" in capsys.readouterr().out
+    V2, F2 = meshsmith.io.read_mesh(target)
+    assert geometry.volume(V2, F2) > 0
+    figures = json.loads(record.read_text())
+    assert figures["fill_holes"]["reoriented_components"] == 1 and figures["output"]["volume"] > 0

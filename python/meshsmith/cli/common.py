@@ -198,6 +198,38 @@ class ProgressBar:
             bar._set_mid_line(False)
 
 
+class Stages:
+    """Stage progress for a command whose steps report none of their own (read → compute → write):
+    ``stages = Stages(ProgressBar(), ["reading", "computing", "writing"])``, then
+    ``stages.start("reading")`` before each step and ``stages.done()`` at the end. Each stage takes
+    an equal share of the bar; :meth:`part` gives a step that takes ``progress=`` a callback
+    within its stage's share. The bar draws as `bar` does (stderr, a terminal only)."""
+
+    def __init__(self, bar: Callable[[float, str], object], names: list[str]) -> None:
+        if not names:
+            raise ValueError("Stages needs at least one stage name")
+        self.bar, self.names, self.current = bar, list(names), -1
+
+    def start(self, name: str) -> None:
+        """Enter stage `name` (one of the names, in order)."""
+        self.current = self.names.index(name, max(self.current, 0))
+        self.bar(self.current / len(self.names), name)
+
+    def part(self) -> Callable[[float, str], bool]:
+        """A progress callback for the current stage's step: its fractions fill the stage's share."""
+        index = max(self.current, 0)
+
+        def report(fraction: float, stage: str) -> bool:
+            self.bar(min((index + min(max(float(fraction), 0.0), 1.0)) / len(self.names), 1.0 - 1e-9),
+                     f"{self.names[index]}: {stage}")
+            return True
+        return report
+
+    def done(self) -> None:
+        """The last stage finished: the bar reaches 100% (and ends its line)."""
+        self.bar(1.0, self.names[-1])
+
+
 # ---- input -----------------------------------------------------------------------------------
 
 def read_mesh(path: str) -> Mesh:

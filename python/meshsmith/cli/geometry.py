@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import InputError, geometry, render
-from .common import UsageError, add_command, add_picture_size, check_output, read_mesh
+from .common import ProgressBar, Stages, UsageError, add_command, add_picture_size, check_output, read_mesh
 from .render import add_colour_options, colour_range, describe_range
 
 CURVATURE_KINDS = ("mean", "gaussian", "k1", "k2")
@@ -41,15 +41,21 @@ def command_curvature(args: argparse.Namespace) -> int:
         raise UsageError("--range and --cmap are for a .png picture; the .npy file holds the values")
     if args.pointwise and args.kind != "gaussian":
         raise UsageError(f"--pointwise applies to --kind gaussian only: {args.kind} is per unit length already")
+    stages = Stages(ProgressBar(), ["reading", f"{args.kind} curvature", "rendering" if picture else "writing"])
+    stages.start("reading")
     V, F = read_mesh(args.input)
+    stages.start(f"{args.kind} curvature")
     values, label = curvature_field(args.kind, V, F, pointwise=args.pointwise)
+    stages.start(stages.names[-1])
     if picture:
         cmap, (low, high) = colour_range(args, values)
         render.render(V, F, args.output, scalar=values, scalar_label=label, cmap=cmap, scalar_range=(low, high),
                       title=f"{Path(args.input).name}: {label}", size=(args.width, args.height), up=args.up)
+        stages.done()
         print(f"wrote {args.output}: {label}, median {np.median(values):.6g}, {describe_range(values, low, high)}")
     else:
         np.save(args.output, values)
+        stages.done()
         print(f"wrote {args.output}: {label}, median {np.median(values):.6g}, "
               f"range [{values.min():.6g}, {values.max():.6g}]")
     return 0

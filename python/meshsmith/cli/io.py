@@ -7,7 +7,7 @@ import sys
 import warnings
 
 from .. import InputError, io
-from .common import add_command
+from .common import ProgressBar, Stages, add_command
 
 # --drop names → MeshData fields (and the corner indices that go with them).
 DROPPABLE = {"normals": ("normals", "F_normal"), "uv": ("UV", "F_uv"), "colors": ("colors",),
@@ -15,23 +15,34 @@ DROPPABLE = {"normals": ("normals", "F_normal"), "uv": ("UV", "F_uv"), "colors":
 FLAG_OF_KEYWORD = {"normals": "normals", "UV": "uv", "colors": "colors", "face_colors": "face-colors"}
 
 
+def refused_attribute(error: BaseException) -> str | None:
+    """The attribute write_mesh refused in `error` ("normals", "UV", "colors", "face_colors"), or None."""
+    refused = re.search(r"cannot write (\w+)", str(error))
+    return refused.group(1) if refused else None
+
+
 def command_convert(args: argparse.Namespace) -> int:
+    stages = Stages(ProgressBar(), ["reading", "writing"])
+    stages.start("reading")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", io.SkippedDataWarning)
         mesh = io.read_mesh(args.input, triangulate=False, return_attributes=True)
+    if caught:
+        ProgressBar.end_all()             # the warnings start their own lines
     for warning in caught:
         print(f"meshsmith: warning: {warning.message}", file=sys.stderr)
     dropped = {field: None for name in args.drop or [] for field in DROPPABLE[name]}
     kept = {name: value for name, value in mesh.attribute_arrays().items() if name not in dropped}
     binary = bool(args.binary) if args.binary or args.ascii else None
+    stages.start("writing")
     try:
         io.write_mesh(args.output, mesh.V, mesh.F, binary=binary, **kept)
     except InputError as error:
-        refused = re.search(r"cannot write (\w+)", str(error))
-        flag = FLAG_OF_KEYWORD.get(refused.group(1)) if refused else None
+        flag = FLAG_OF_KEYWORD.get(refused_attribute(error) or "")
         if flag is None:
             raise
         raise InputError(f"{error}; or pass --drop {flag} to convert without them") from None
+    stages.done()
     names = [name for name in ("normals", "UV", "colors", "face_colors") if name in kept]
     print(f"wrote {args.output}: {len(mesh.V)} vertices, {len(mesh.F)} faces"
           + (f", with {', '.join(names)}" if names else "")

@@ -8,6 +8,8 @@ import numpy as np
 
 from .. import InputError, io, render
 from .common import (
+    ProgressBar,
+    Stages,
     UsageError,
     add_command,
     add_picture_size,
@@ -73,10 +75,13 @@ def describe_range(values: np.ndarray, low: float, high: float) -> str:
 
 def command_render(args: argparse.Namespace) -> int:
     check_output(args.output, (".png",), "-o")
+    stages = Stages(ProgressBar(), ["reading"] + (["scalar field"] if args.scalar else []) + ["rendering"])
+    stages.start("reading")
     V, F = read_faces(args.input)  # quad meshes are drawn with their edges
     options = dict(size=(args.width, args.height), wireframe=args.wireframe or None, flat=args.flat, up=args.up)
     line = ""
     if args.scalar:
+        stages.start("scalar field")
         values, options["scalar_label"] = scalar_field(args.scalar, V, F)
         options["cmap"], options["scalar_range"] = colour_range(args, values)
         options["scalar"] = values
@@ -85,7 +90,9 @@ def command_render(args: argparse.Namespace) -> int:
         raise UsageError("--range and --cmap colour a --scalar; give --scalar too")
     if args.views:
         options["views"] = [view.strip() for view in args.views.split(",")]
+    stages.start("rendering")
     render.render(V, F, args.output, title=args.title or Path(args.input).name, **options)
+    stages.done()
     print(f"wrote {args.output}{line}")
     return 0
 

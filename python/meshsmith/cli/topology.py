@@ -8,17 +8,23 @@ import numpy as np
 
 from .. import io, repair, topology
 from ..repair.defects import DEFECT_COUNTS, INTERSECTION_FACE_LIMIT
-from .common import add_command, read_faces
+from .common import ProgressBar, Stages, add_command, read_faces
 
 
 def command_info(args: argparse.Namespace) -> int:
+    stages = Stages(ProgressBar(), ["reading", "topology", "defects"])
+    stages.start("reading")
     V, F = read_faces(args.file)  # quads and other polygons count as themselves
+    stages.start("topology")
     summary = topology.info(V, F)
     if isinstance(F, io.Polygons) or F.shape[1] > 3:
         triangles = (F if isinstance(F, io.Polygons) else io.Polygons.from_array(F)).fan_triangles()[0]
     else:
         triangles = F
-    defects = repair.find_defects(V, triangles, intersections=True if args.intersections else None)
+    stages.start("defects")
+    defects = repair.find_defects(V, triangles, intersections=True if args.intersections else None,
+                                  progress=stages.part())
+    stages.done()
     if args.json:
         print(json.dumps({**summary.as_dict(), "defects": defects.counts()}, indent=2))
         return 0

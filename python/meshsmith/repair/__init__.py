@@ -6,7 +6,7 @@ int64 arrays, with maps back to the input's indices. Bad input raises :class:`me
 
 Modules, one per algorithm family: ``unreferenced``, ``orient``, ``clean``, ``holes`` (hole filling,
 §2.4.1), ``intersections`` (self-intersecting face pairs, and their removal), ``degenerate`` (needles and caps),
-``stitching`` (cracks and T-junctions between boundaries), ``volumetric`` (volumetric repair, §2.4.2), ``defects``
+``stitching`` (cracks and T-junctions between boundaries), ``zipper`` (joining overlapping scans), ``volumetric`` (volumetric repair, §2.4.2), ``defects``
 (counting what is wrong).
 """
 from .clean import CleanMesh, CleanReport, clean, merge_close_vertices
@@ -18,10 +18,11 @@ from .orient import OrientedFaces, orient_faces
 from .stitching import StitchedMesh, stitch_boundaries
 from .unreferenced import ReferencedMesh, remove_unreferenced
 from .volumetric import VolumetricMesh, VolumetricReport, volumetric_repair
+from .zipper import ZipperedMesh, ZipperReport, zipper
 
 __all__ = ["clean", "CleanMesh", "CleanReport", "merge_close_vertices", "orient_faces", "OrientedFaces",
            "remove_unreferenced", "ReferencedMesh", "fill_holes", "FilledMesh", "FillHolesReport", "HolePatch",
            "self_intersections", "remove_self_intersections", "IntersectionFreeMesh", "IntersectionRemoval",
            "remove_needles_and_caps", "NeedlesAndCaps",
            "stitch_boundaries", "StitchedMesh", "volumetric_repair", "VolumetricMesh", "VolumetricReport",
-           "find_defects", "MeshDefectCounts"]
+           "find_defects", "MeshDefectCounts", "zipper", "ZipperedMesh", "ZipperReport"]

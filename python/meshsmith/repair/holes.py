@@ -5,15 +5,16 @@ cpp/python/repair_holes.cpp, C++ src/repair/fill_holes.cpp."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Literal, NamedTuple, overload
 
 import numpy as np
 
-from .. import _arguments
+from .. import _arguments, topology
 from .._core import InputError
 from .._core import repair as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from .stitching import boundary_sides
 
 __all__ = ["HolePatch", "FillHolesReport", "FilledMesh", "fill_holes"]
 
@@ -50,13 +51,16 @@ class FillHolesReport(Unpackable):
     patches: a :class:`HolePatch` per filled loop (ascending loop index); unfilled: (loop, reason)
     per chosen loop left open; loops: every boundary loop of the input as an ordered (n,) int64
     vertex array (:func:`meshsmith.topology.boundary_loops`'s order, longest first); kept_borders:
-    (b,) int64 loops that ``keep_border`` left open.
+    (b,) int64 loops that ``keep_border`` left open; reoriented_components: components the fill
+    closed that came out inside out (negative signed volume: the open surface's faces pointed
+    inward) and were reversed as a whole, so every closed component faces outward.
     """
 
     patches: tuple[HolePatch, ...]
     unfilled: tuple[tuple[int, str], ...]
     loops: tuple[IndexArray, ...]
     kept_borders: IndexArray
+    reoriented_components: int = 0
 
     unpacks = ("patches", "unfilled")
 
@@ -66,11 +70,13 @@ class FillHolesReport(Unpackable):
         return len(self.patches)
 
     def counts(self) -> dict[str, int]:
-        """The counts (JSON-ready): loops, filled, unfilled, kept_borders, faces_added, vertices_added."""
+        """The counts (JSON-ready): loops, filled, unfilled, kept_borders, faces_added, vertices_added,
+        reoriented_components."""
         return {"loops": len(self.loops), "filled": self.filled, "unfilled": len(self.unfilled),
                 "kept_borders": len(self.kept_borders),
                 "faces_added": int(sum(len(p.faces) for p in self.patches)),
-                "vertices_added": int(sum(len(p.vertices) for p in self.patches))}
+                "vertices_added": int(sum(len(p.vertices) for p in self.patches)),
+                "reoriented_components": int(self.reoriented_components)}
 
     def lines(self) -> list[str]:
         """What changed, one line per kind, then one per hole left open."""
@@ -82,6 +88,9 @@ class FillHolesReport(Unpackable):
             ratios = [p.edge_length_ratio for p in self.patches]
             lines.append(f"largest dihedral angle in a patch {worst:.1f} degrees; edge length / "
                          f"surrounding ring {min(ratios):.2f} to {max(ratios):.2f}")
+        if self.reoriented_components:
+            lines.append(f"{self.reoriented_components:,} closed components reversed to face outward "
+                         "(their faces pointed inward)")
         if len(self.kept_borders):
             lines.append(f"{len(self.kept_borders):,} borders kept open (loops {self.kept_borders.tolist()})")
         lines += [f"loop {loop} left open: {reason}" for loop, reason in self.unfilled]
@@ -135,6 +144,11 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
     a manifold input stays manifold. Every input face and vertex is kept, in order; the new ones
     come after them (``report.patches[i].faces`` / ``.vertices`` are their rows).
 
+    A component that the fill closes is then oriented outward by its signed volume: if the open
+    surface's faces pointed inward (so the closed one has negative volume) every face of the
+    component, patches included, is reversed (``report.reoriented_components`` counts them); a
+    component that stays open, or was closed before, keeps its orientation.
+
     V: (n, 3) float array, F: (m, 3) integer array, edge-manifold and consistently oriented (as
     :func:`meshsmith.repair.clean` returns it). Returns a :class:`FilledMesh` ``(V, F, report)``
     (float64, int64, :class:`FillHolesReport`). Raises InputError for bad input, an edge with
@@ -163,6 +177,56 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
                   edge_length_ratio=float(ratio))
         for (loop, loop_edges, faces, vertices, delaunay, face_begin, vertex_begin), (angle, ratio)
         in zip(raw["patches"].tolist(), raw["measures"].tolist()))
+    F2, reoriented = _orient_closed_outward(V2, F2, patches)
     report = FillHolesReport(patches=patches, unfilled=tuple((int(l), str(r)) for l, r in raw["unfilled"]),
-                             loops=tuple(raw["loops"]), kept_borders=np.asarray(raw["kept_borders"], dtype=np.int64))
+                             loops=tuple(raw["loops"]), kept_borders=np.asarray(raw["kept_borders"], dtype=np.int64),
+                             reoriented_components=reoriented)
     return FilledMesh(V2, F2, report)
+
+
+@overload
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: Literal[False] = ...) -> FloatArray: ...
+@overload
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: Literal[True]) -> tuple[FloatArray, FloatArray]: ...
+def signed_volumes(V: FloatArray, F: IndexArray, labels: IndexArray, count: int, *,
+                   with_areas: bool = False) -> FloatArray | tuple[FloatArray, FloatArray]:
+    """(count,) signed volume of each group of faces (labels (m,) in [0, count)), by the divergence
+    theorem about the vertices' centre, in coordinates scaled by a power of two (exact) so that
+    neither 1e300 nor 1e-300 coordinates overflow or underflow: only the signs and ratios mean
+    something for coordinates that far out (they are exact for coordinates of ordinary size only
+    after multiplying by the scale cubed). With ``with_areas`` also each group's area, in the same
+    scaled coordinates (so a round-off bound on the volume is a small multiple of area^1.5)."""
+    centre = V.mean(axis=0) if len(V) else np.zeros(3)
+    span = float(np.abs(V - centre).max()) if len(V) else 0.0
+    P = np.ldexp(V - centre, -int(np.frexp(span)[1])) if span > 0 else V - centre
+    a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
+    volumes = np.asarray(np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0,
+                                     minlength=count), dtype=np.float64)
+    if not with_areas:
+        return volumes
+    areas = np.bincount(labels, weights=np.linalg.norm(np.cross(b - a, c - a), axis=1) / 2.0, minlength=count)
+    return volumes, np.asarray(areas, dtype=np.float64)
+
+
+def _orient_closed_outward(V: FloatArray, F: IndexArray, patches: tuple[HolePatch, ...]) -> tuple[IndexArray, int]:
+    """F with each component that holds a patch and is closed (no boundary edge) reversed when its
+    signed volume is negative; and the number reversed."""
+    if not patches:
+        return F, 0
+    components = topology.connected_components(F, len(V), connectivity="edge")
+    labels, count = components.face_labels, components.count
+    patched = np.zeros(count, dtype=bool)
+    patched[labels[np.concatenate([p.faces for p in patches])]] = True
+    open_ = np.zeros(count, dtype=bool)
+    open_[labels[boundary_sides(F)[:, 0]]] = True
+    # Negative beyond round-off: a flat, two-sided piece (volume 0) keeps its orientation.
+    volumes, areas = signed_volumes(V, F, labels, count, with_areas=True)
+    inside_out = patched & ~open_ & (volumes < -1e-9 * areas ** 1.5)
+    if not inside_out.any():
+        return F, 0
+    F = F.copy()
+    flip = inside_out[labels]
+    F[flip] = F[flip][:, [0, 2, 1]]
+    return F, int(inside_out.sum())

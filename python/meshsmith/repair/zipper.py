@@ -1,0 +1,363 @@
+"""Zippering (§2.4.1, after Turk and Levoy 1994): two registered, overlapping scans joined into one
+manifold mesh by removing the overlapping triangles of one, clipping its new boundary against the
+other's boundary and stitching the two boundaries together."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from .. import _arguments, topology
+from .._core import InputError
+from .._results import Unpackable
+from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..geometry import SurfaceDistance
+from ..points import KdTree
+from .clean import clean
+from .holes import fill_holes
+from .stitching import boundary_sides, stitch_boundaries
+from .unreferenced import remove_unreferenced
+
+__all__ = ["ZipperReport", "ZipperedMesh", "zipper"]
+
+
+@dataclass(frozen=True)
+class ZipperReport(Unpackable):
+    """What :func:`zipper` did; unpacks as ``face_source, face_map``.
+
+    face_source: (m,) int64, 0 for an output face from A, 1 from B, -1 for a face that closes a gap
+    in the seam; face_map: (m,) int64, its row of FA or FB (a B face split at the seam gives
+    several; -1 for a gap's face); removed_faces: B faces removed as
+    overlapping A; snapped_vertices: B vertices of the cut moved onto A's boundary;
+    inserted_vertices: A boundary vertices inserted into B's cut edges (the clipping);
+    split_edges and merged_vertices: what :func:`stitch_boundaries` then did (A's boundary edges
+    split at B's vertices, coincident vertices merged); removed_degenerate: faces a merge or the
+    final :func:`clean` removed (slivers of the seam); dropped_fragments: pieces of B of at most
+    8 faces left unconnected along the seam, removed; filled_gaps: holes of at most 8 edges left
+    along the seam (every vertex on it), closed by :func:`fill_holes`; boundary_loops_before: loops of A plus
+    those of B; boundary_loops_after: loops of the output.
+    """
+
+    face_source: IndexArray
+    face_map: IndexArray
+    removed_faces: int
+    snapped_vertices: int
+    inserted_vertices: int
+    split_edges: int
+    merged_vertices: int
+    removed_degenerate: int
+    dropped_fragments: int
+    filled_gaps: int
+    boundary_loops_before: int
+    boundary_loops_after: int
+
+    unpacks = ("face_source", "face_map")
+
+
+class ZipperedMesh(NamedTuple):
+    """The result of :func:`zipper`: ``V, F, report = zipper(VA, FA, VB, FB, tolerance=t)``."""
+
+    V: FloatArray
+    F: IndexArray
+    report: ZipperReport
+
+
+def barycentric(P: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """(k, 3) barycentric coordinates of points P (k, 3) on triangles T (k, 3, 3) (points on the
+    triangles, as closest points are), clamped to [0, 1] and summing to 1; a degenerate triangle
+    gives its first corner."""
+    e1, e2, d = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0], P - T[:, 0]
+    d11, d12, d22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    d1, d2 = (d * e1).sum(1), (d * e2).sum(1)
+    det = d11 * d22 - d12 * d12
+    ok = det > 0
+    safe = np.where(ok, det, 1.0)
+    u = np.where(ok, (d22 * d1 - d12 * d2) / safe, 0.0)
+    v = np.where(ok, (d11 * d2 - d12 * d1) / safe, 0.0)
+    weights = np.clip(np.column_stack([1 - u - v, u, v]), 0.0, 1.0)
+    return weights / weights.sum(axis=1, keepdims=True)
+
+
+def _on_boundary(V: FloatArray, F: IndexArray, face: IndexArray, point: FloatArray) -> np.ndarray:
+    """(k,) bool: the closest point `point` (on face `face` of (V, F)) lies on a boundary edge of F."""
+    side_is_boundary = np.zeros((len(F), 3), dtype=bool)        # side c runs from corner c to c + 1
+    sides = boundary_sides(F)
+    side_is_boundary[sides[:, 0], sides[:, 1]] = True
+    vertex_is_boundary = np.zeros(len(V), dtype=bool)
+    vertex_is_boundary[F[sides[:, 0], sides[:, 1]]] = True
+    weights = barycentric(point, V[F[face]])
+    on = np.zeros(len(face), dtype=bool)
+    for c in range(3):        # on side c when the weight of the opposite corner (c + 2) vanishes
+        on |= side_is_boundary[face, c] & (weights[:, (c + 2) % 3] < 1e-9)
+        on |= vertex_is_boundary[F[face, c]] & (weights[:, c] > 1 - 1e-9)
+    return on
+
+
+def _closest_on_loops(P: FloatArray, VA: FloatArray, loops: list[IndexArray]) -> tuple[np.ndarray, ...]:
+    """For each point of P (k, 3), the closest point of A's boundary loops: (loop (k,), parameter
+    (k,) in [0, len(loop)) along it, distance (k,), point (k, 3)). The parameter's integer part is
+    the segment from loop[j] to loop[j + 1], its fraction how far along; a point within a tenth of
+    a segment of a corner is put on the corner (so no sliver is cut off next to it)."""
+    which = np.concatenate([np.full(len(loop), i) for i, loop in enumerate(loops)])
+    slot = np.concatenate([np.arange(len(loop)) for loop in loops])
+    vertices = np.concatenate(loops)
+    tree = KdTree(VA[vertices])
+    neighbours = tree.query(min(8, len(vertices)), P).indices                     # (k, q)
+    best = np.full(len(P), np.inf)
+    loop_of, parameter = np.zeros(len(P), dtype=np.int64), np.zeros(len(P))
+    point = np.zeros_like(P)
+    sizes = np.array([len(loop) for loop in loops])
+    for column in range(neighbours.shape[1]):
+        n = neighbours[:, column]
+        L, j = which[n], slot[n]
+        for segment in (j, (j - 1) % sizes[L]):
+            start = np.array([loops[l][s] for l, s in zip(L.tolist(), segment.tolist())], dtype=np.int64)
+            end = np.array([loops[l][(s + 1) % sizes[l]] for l, s in zip(L.tolist(), segment.tolist())],
+                           dtype=np.int64)
+            a, b = VA[start], VA[end]
+            direction = b - a
+            length2 = np.einsum("ij,ij->i", direction, direction)
+            t = np.clip(np.einsum("ij,ij->i", P - a, direction) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
+            t = np.where(t < 0.1, 0.0, np.where(t > 0.9, 1.0, t))
+            q = np.where(t[:, None] == 0.0, a, np.where(t[:, None] == 1.0, b, a + t[:, None] * direction))
+            distance = np.linalg.norm(P - q, axis=1)
+            better = distance < best
+            best[better], loop_of[better] = distance[better], L[better]
+            parameter[better] = ((segment + t) % sizes[L])[better]
+            point[better] = q[better]
+    return loop_of, parameter, best, point
+
+
+#: The largest piece of B dropped, and the largest hole filled, where the seam did not close (edges).
+SEAM_LEFTOVER = 8
+
+
+def _close_seam(V: FloatArray, F: IndexArray, source: IndexArray, rows: IndexArray,
+                seam_points: FloatArray) -> tuple[FloatArray, IndexArray, IndexArray, IndexArray, int, int]:
+    """What a seam can leave behind where B's cut met A's rim badly: drop the components of at most
+    SEAM_LEFTOVER faces, all from B, and fill the holes of at most SEAM_LEFTOVER edges whose vertices
+    all lie on the seam (A's rim, B's snapped and inserted vertices). Returns (V, F, source, rows,
+    dropped fragments, filled holes)."""
+    components = topology.connected_components(F, len(V), connectivity="edge")
+    sizes = np.bincount(components.face_labels, minlength=components.count)
+    from_a = np.bincount(components.face_labels, weights=(source == 0), minlength=components.count)
+    fragment = (sizes <= SEAM_LEFTOVER) & (from_a == 0) & (sizes < len(F))
+    fragments = int(fragment.sum())
+    if fragments:
+        keep = ~fragment[components.face_labels]
+        source, rows = source[keep], rows[keep]
+        V, F, _ = remove_unreferenced(V, F[keep])
+    _, seam_position = np.unique(np.vstack([seam_points, V]), axis=0, return_inverse=True)
+    seam_position = seam_position.reshape(-1)
+    on_seam = np.isin(seam_position[len(seam_points):], seam_position[:len(seam_points)])
+    loops = topology.boundary_loops(F)
+    gaps = [i for i, loop in enumerate(loops) if len(loop) <= SEAM_LEFTOVER and on_seam[loop].all()]
+    if not gaps:
+        return V, F, source, rows, fragments, 0
+    V2, F2, filled = fill_holes(V, F, holes=gaps, refine=False, fair=False)
+    added = len(F2) - len(F)
+    return (V2, F2, np.concatenate([source, np.full(added, -1, dtype=np.int64)]),
+            np.concatenate([rows, np.full(added, -1, dtype=np.int64)]), fragments, filled.filled)
+
+
+def _unfolding_snaps(VB: FloatArray, FB: IndexArray, candidates: IndexArray, point: FloatArray,
+                     close: np.ndarray) -> np.ndarray:
+    """`close` (which candidates to move to `point`) without the moves that would turn a face of
+    B over (its normal against the one it had): of such a face's moved corners the one moved
+    farthest stays, until no face turns over (the gap it leaves is closed with the seam's)."""
+    close = close.copy()
+    moved = np.full(len(VB), -1, dtype=np.int64)
+    for _ in range(16):
+        moved[:] = -1
+        moved[candidates[close]] = np.flatnonzero(close)
+        touched = (moved[FB] >= 0).any(axis=1)
+        if not touched.any():
+            return close
+        faces = FB[touched]
+        P = VB[faces].copy()
+        rows = moved[faces]
+        P[rows >= 0] = point[rows[rows >= 0]]
+        before = np.cross(VB[faces[:, 1]] - VB[faces[:, 0]], VB[faces[:, 2]] - VB[faces[:, 0]])
+        after = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+        turned = np.einsum("ij,ij->i", before, after) < 0
+        if not turned.any():
+            return close
+        shift = np.where(rows >= 0, np.linalg.norm(P - VB[faces], axis=2), -1.0)[turned]
+        undo = rows[turned][np.arange(int(turned.sum())), shift.argmax(axis=1)]
+        close[undo] = False
+    return close
+
+
+def _clip_to_loops(VB: FloatArray, FB: IndexArray, face_map: IndexArray, VA: FloatArray, loops: list[IndexArray],
+                   where: dict[int, tuple[int, float]]) -> tuple[FloatArray, IndexArray, IndexArray, int]:
+    """Insert into each boundary edge of B whose two ends lie on the same loop of A (where: B vertex
+    -> (loop, parameter)) copies of the loop vertices strictly between them (the shorter way
+    round), splitting the edge's face into a fan; so B's cut follows A's boundary vertex by vertex.
+    Returns (VB, FB, face_map, inserted vertices)."""
+    inserted = 0
+    for _ in range(8):                        # a face with two sides to split gets one per pass
+        sides = boundary_sides(FB)
+        new_vertices: list[np.ndarray] = []
+        new_faces: list[list[int]] = []
+        new_map: list[int] = []
+        replaced = np.zeros(len(FB), dtype=bool)
+        for f, c in sides.tolist():
+            if replaced[f]:
+                continue
+            u, w, o = int(FB[f, c]), int(FB[f, (c + 1) % 3]), int(FB[f, (c + 2) % 3])
+            if u not in where or w not in where or where[u][0] != where[w][0]:
+                continue
+            loop = loops[where[u][0]]
+            n = len(loop)
+            pu, pw = where[u][1], where[w][1]
+            forward = (pw - pu) % n
+            step, span = (1, forward) if forward <= n / 2 else (-1, n - forward)
+            between = [k for k in (np.floor(pu) + step * np.arange(0, int(np.ceil(span)) + 2)).astype(int).tolist()
+                       if 0 < step * (k - pu) < span]
+            if not between or len(between) > 32:
+                continue
+            chain = [u]
+            for k in between:
+                where[len(VB) + len(new_vertices)] = (where[u][0], float(k % n))
+                chain.append(len(VB) + len(new_vertices))
+                new_vertices.append(VA[loop[k % n]])
+            chain.append(w)
+            new_faces += [[chain[i], chain[i + 1], o] for i in range(len(chain) - 1)]
+            new_map += [int(face_map[f])] * (len(chain) - 1)
+            replaced[f] = True
+        if not new_faces:
+            break
+        inserted += len(new_vertices)
+        VB = np.vstack([VB, np.asarray(new_vertices)])
+        FB = np.vstack([FB[~replaced], np.asarray(new_faces, dtype=np.int64)])
+        face_map = np.concatenate([face_map[~replaced], np.asarray(new_map, dtype=np.int64)])
+    return VB, FB, face_map, inserted
+
+
+@_arguments.real_options
+def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolerance: float,
+           progress: ProgressCallback = None) -> ZipperedMesh:
+    """Join two registered, overlapping scans into one manifold mesh (§2.4.1, after Turk and Levoy 1994).
+
+    1. Overlap: a point is over A when it lies within ``tolerance`` of A's surface (exact
+       point-to-triangle distance, :class:`SurfaceDistance`) at a closest point that is not on A's
+       boundary (points beyond A's rim have their closest point on it). A triangle of B is removed
+       when its centroid or one of its corners is over A, so what is left of B ends at A's rim,
+       with a gap of at most one of B's triangles.
+    2. Clipping: each vertex of B's new boundary (the cut) is moved onto the closest point of A's
+       boundary (onto a corner of it when within a tenth of a segment), if that is within
+       ``tolerance`` plus 1.5 times its longest edge; each edge of the cut whose ends landed on one
+       loop of A then gets the loop's vertices between them, so the cut follows A's boundary
+       vertex by vertex.
+    3. Joining: :func:`stitch_boundaries` with a tolerance of a millionth of A's mean boundary edge
+       splits A's boundary edges at the cut's vertices and merges the coincident vertices; then
+       :func:`clean` removes the slivers and degenerate faces this leaves and orients the result.
+       Where B's cut met A's rim badly (a sharp turn of the rim), a piece of B of at most 8 faces
+       may be left unconnected, and a hole of a few edges open: such pieces are dropped and such
+       holes (every vertex on the seam) filled, and both counted.
+    A's triangles are all kept; where the two scans do not overlap, their boundaries stay open.
+
+    VA, VB: (n, 3) float arrays; FA, FB: (m, 3) integer arrays, each a manifold, consistently
+    oriented surface (as :func:`clean` returns it) with the same orientation (outward for a
+    closed object); tolerance > 0, in the units of V: the largest distance between the two
+    registered surfaces where they overlap (noise plus registration error), well below the size of
+    the overlap. Returns a :class:`ZipperedMesh` ``(V, F, report)``: V float64, F int64, manifold
+    where the overlap's rim was met by B's triangles, with a :class:`ZipperReport`. Raises
+    InputError for bad input or tolerance; Cancelled from ``progress``.
+    Time O((m_A + m_B) log m_A) plus the boundary's length.
+    """
+    tolerance = float(tolerance)
+    if not (np.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"tolerance = {tolerance!r}: expected a finite number > 0")
+    progress = _arguments.progress(progress)
+    Va, Fa, _ = remove_unreferenced(VA, FA)
+    Vb, Fb, _ = remove_unreferenced(VB, FB)
+    loops_a, loops_b = topology.boundary_loops(Fa), topology.boundary_loops(Fb)
+    loops_before = len(loops_a) + len(loops_b)
+
+    _arguments.report(progress, 0.0, "zipper: overlap")
+    surface = SurfaceDistance(Va, Fa)
+
+    def covered(points: FloatArray) -> np.ndarray:
+        """Within tolerance of A, at a closest point not on A's boundary (so over A, not beyond it)."""
+        closest = surface.closest_points(points)
+        inside = closest.distance <= tolerance
+        if len(loops_a):
+            inside &= ~_on_boundary(Va, Fa, closest.face, closest.point)
+        return inside
+
+    overlap = covered(Vb[Fb].mean(axis=1)) | covered(Vb)[Fb].any(axis=1)
+    removed = int(overlap.sum())
+    Fb1, face_map_b = Fb[~overlap], np.flatnonzero(~overlap).astype(np.int64)
+
+    _arguments.report(progress, 0.4, "zipper: clipping")
+    snapped = inserted = 0
+    Vb1 = Vb.copy()
+    on_seam = np.zeros(len(Vb), dtype=bool)
+    if len(Fb1) and len(loops_a) and removed:
+        cut = np.zeros(len(Vb), dtype=bool)
+        sides = boundary_sides(Fb1)
+        cut[Fb1[sides[:, 0], sides[:, 1]]] = True
+        touched = np.zeros(len(Vb), dtype=bool)
+        touched[Fb[overlap].ravel()] = True
+        cut &= touched
+        candidates = np.flatnonzero(cut)
+        if len(candidates):
+            edges = np.linalg.norm(Vb[Fb1] - Vb[np.roll(Fb1, -1, axis=1)], axis=2)   # (m, 3): side c's length
+            longest = np.zeros(len(Vb))
+            np.maximum.at(longest, Fb1.ravel(), edges.ravel())
+            np.maximum.at(longest, np.roll(Fb1, -1, axis=1).ravel(), edges.ravel())
+            loop, parameter, distance, point = _closest_on_loops(Vb[candidates], Va, loops_a)
+            close = distance <= tolerance + 1.5 * longest[candidates]
+            close = _unfolding_snaps(Vb, Fb1, candidates, point, close)
+            Vb1[candidates[close]] = point[close]
+            snapped = int(close.sum())
+            where = {int(v): (int(l), float(p)) for v, l, p in
+                     zip(candidates[close].tolist(), loop[close].tolist(), parameter[close].tolist())}
+            # A face with all three corners on A's rim and its centroid over A is folded onto A's rim faces.
+            on_rim = np.zeros(len(Vb), dtype=bool)
+            on_rim[candidates[close]] = True
+            flat = on_rim[Fb1].all(axis=1)
+            flat[flat] = covered(Vb1[Fb1[flat]].mean(axis=1))
+            removed += int(flat.sum())
+            Fb1, face_map_b = Fb1[~flat], face_map_b[~flat]
+            Vb1, Fb1, face_map_b, inserted = _clip_to_loops(Vb1, Fb1, face_map_b, Va, loops_a, where)
+            on_seam = np.zeros(len(Vb1), dtype=bool)
+            on_seam[list(where)] = True
+            on_seam[candidates] = True          # an unsnapped cut vertex may bound a gap too
+
+    _arguments.report(progress, 0.7, "zipper: stitching")
+    V = np.vstack([Va, Vb1])
+    F = np.vstack([Fa, Fb1 + len(Va)]) if len(Fb1) else Fa
+    source = np.concatenate([np.zeros(len(Fa), dtype=np.int64), np.ones(len(Fb1), dtype=np.int64)])
+    rows = np.concatenate([np.arange(len(Fa), dtype=np.int64), face_map_b])
+    split_edges = merged = 0
+    if len(loops_a) and len(Fb1):
+        sides = boundary_sides(Fa)
+        lengths = np.linalg.norm(Va[Fa[sides[:, 0], sides[:, 1]]] - Va[Fa[sides[:, 0], (sides[:, 1] + 1) % 3]], axis=1)
+        stitched = stitch_boundaries(V, F, tolerance=1e-6 * float(lengths.mean()))
+        V, F = stitched.V, stitched.F
+        source, rows = source[stitched.face_map], rows[stitched.face_map]
+        split_edges, merged = stitched.split_edges, stitched.merged_vertices
+        degenerate = stitched.removed_faces
+    else:
+        degenerate = 0
+    faces_before_clean = len(F)
+    V, F, cleaned = clean(V, F)
+    source, rows = source[cleaned.face_map], rows[cleaned.face_map]
+    degenerate += faces_before_clean - len(F)
+
+    _arguments.report(progress, 0.85, "zipper: closing the seam")
+    fragments = gaps = 0
+    if len(F) and len(loops_a) and len(Fb1):
+        seam_points = np.vstack([Va[np.concatenate(loops_a)], Vb1[np.flatnonzero(on_seam)]])
+        V, F, source, rows, fragments, gaps = _close_seam(V, F, source, rows, seam_points)
+    _arguments.report(progress, 1.0, "zipper: done")
+    loops_after = len(topology.boundary_loops(F)) if len(F) else 0
+    report = ZipperReport(face_source=source, face_map=rows, removed_faces=removed, snapped_vertices=snapped,
+                          inserted_vertices=inserted, split_edges=split_edges, merged_vertices=merged,
+                          removed_degenerate=degenerate, dropped_fragments=fragments, filled_gaps=gaps,
+                          boundary_loops_before=loops_before,
+                          boundary_loops_after=loops_after)
+    return ZipperedMesh(V, F, report)
