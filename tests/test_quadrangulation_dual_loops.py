@@ -164,14 +164,14 @@ def singular_groups(F, layout):
     return groups
 
 
-def shared_layout(path, singularities):
+def shared_layout(path, singularities, **options):
     """The layout of a shared mesh on its smooth field, its loop invariants checked, every region a disk."""
     V, F = repair.clean(*io.read_mesh(path))[:2]
-    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"))
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), **options)
     check_layout(V, F, layout)
     assert len(layout.singular_vertices) == singularities
     assert layout.report.non_disk_regions == 0 and (layout.report.region_euler == 1).all()
-    return F, layout
+    return V, F, layout
 
 
 def test_bumpy_cube_reaches_a_manifold_layout_with_four_dipoles_left(data_dir):
@@ -179,7 +179,7 @@ def test_bumpy_cube_reaches_a_manifold_layout_with_four_dipoles_left(data_dir):
     # closed manifold quad mesh with χ = 2 and every region a disk, but four regions still hold
     # a +1/−1 pair (10–16 edges apart) that no traced loop through their separation indicator
     # closed: the full dual is not reached, and the report says where.
-    F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=28)
+    _, F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=28)
     report = layout.report
     assert report.degenerate_quads == report.non_manifold_edges == report.non_manifold_vertices == 0
     assert report.euler_layout == report.euler_input == 2
@@ -188,6 +188,7 @@ def test_bumpy_cube_reaches_a_manifold_layout_with_four_dipoles_left(data_dir):
     for vertices, indices in groups:
         assert sorted(indices.tolist()) == [-1, 1]       # dipoles
     assert not report.complete and "holds 2 singularities" in report.failure
+    assert report.parallel_crossings == 0
     T = np.concatenate([layout.Q[:, [0, 1, 2]], layout.Q[:, [0, 2, 3]]])
     assert topology.is_manifold(T) and topology.is_oriented(T)
 
@@ -197,7 +198,7 @@ def test_spot_reaches_disk_regions_but_not_one_singularity_each(data_dir):
     # no edge loop can pass between two adjacent vertices, so those pairs cannot be separated at
     # this resolution. Reached: every region a disk, the loops valid; not reached: one
     # singularity per region (15 regions hold more) and so not a manifold dual everywhere.
-    F, layout = shared_layout(data_dir / "spot.obj", singularities=52)
+    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52)
     report = layout.report
     assert not report.complete and report.multi_singular_regions > 0
     adjacent = edge_set(F)
@@ -206,8 +207,34 @@ def test_spot_reaches_disk_regions_but_not_one_singularity_each(data_dir):
         pairs = {tuple(sorted((int(a), int(b)))) for a in vertices for b in vertices if a != b}
         inseparable += bool(pairs & adjacent)
     assert inseparable >= 3          # regions whose singularities include mesh neighbours
-    for region in np.flatnonzero(report.region_singularities > 1):
-        assert f"region {region} holds" in report.failure or len(report.failure) > 600
+    for region in np.flatnonzero(report.region_singularities > 1)[:5]:
+        assert f"region {region} holds" in report.failure
+    assert report.failure.count("two of them neighbours") >= 3
+
+
+def test_bumpy_cube_is_complete_when_loops_of_one_family_may_cross(data_dir):
+    # What blocked the four dipoles above: a loop between them had to cross a loop of its own
+    # family. Allowed at a cost, it closes: every region a disk with at most one singularity and
+    # a closed manifold layout with χ = 2; the few parallel crossings are counted.
+    V, F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=28, parallel_crossing_penalty=4.0)
+    check_complete(V, F, layout)
+    report = layout.report
+    assert report.multi_singular_regions == 0 and (report.region_singularities <= 1).all()
+    assert 0 < report.parallel_crossings <= 0.05 * report.crossings
+
+
+def test_spot_with_parallel_crossings_gets_a_manifold_layout_but_keeps_adjacent_singularities(data_dir):
+    # On spot, allowing parallel crossings makes the dual a closed manifold quad mesh with χ = 2,
+    # but the regions holding neighbouring singularities cannot be split by any edge loop: the
+    # layout is still not complete, and the report says so.
+    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52, parallel_crossing_penalty=4.0)
+    report = layout.report
+    assert report.degenerate_quads == report.non_manifold_edges == report.non_manifold_vertices == 0
+    assert report.euler_layout == report.euler_input == 2
+    T = np.concatenate([layout.Q[:, [0, 1, 2]], layout.Q[:, [0, 2, 3]]])
+    assert topology.is_manifold(T) and topology.is_oriented(T) and topology.euler_characteristic(T) == 2
+    assert not report.complete and report.multi_singular_regions > 0
+    assert "two of them neighbours" in report.failure
 
 
 def test_bad_input():
@@ -228,6 +255,8 @@ def test_bad_input():
         dual_loop_layout(V, F, theta, anisotropy=0.5)
     with pytest.raises(meshsmith.InputError, match="max_deviation"):
         dual_loop_layout(V, F, theta, max_deviation=95.0)
+    with pytest.raises(meshsmith.InputError, match="parallel_crossing_penalty"):
+        dual_loop_layout(V, F, theta, parallel_crossing_penalty=-1.0)
     with pytest.raises(meshsmith.InputError, match="max_loops"):
         dual_loop_layout(V, F, theta, max_loops=0)
     with pytest.raises(meshsmith.InputError):

@@ -24,6 +24,7 @@ py::dict report_dict(const DualLoopReport& r) {
   py::dict d;
   d["loops"] = r.loops;
   d["crossings"] = r.crossings;
+  d["parallel_crossings"] = r.parallel_crossings;
   d["segments"] = r.segments;
   d["regions"] = r.regions;
   d["region_euler"] = int64_list(r.region_euler);
@@ -34,6 +35,7 @@ py::dict report_dict(const DualLoopReport& r) {
   d["degenerate_quads"] = r.degenerate_quads;
   d["non_manifold_edges"] = r.non_manifold_edges;
   d["non_manifold_vertices"] = r.non_manifold_vertices;
+  d["low_valence_vertices"] = r.low_valence_vertices;
   d["euler_input"] = r.euler_input;
   d["euler_layout"] = r.euler_layout;
   d["seeds_tried"] = r.seeds_tried;
@@ -53,7 +55,8 @@ py::dict report_dict(const DualLoopReport& r) {
 void bind_quadrangulation_dual_loops(py::module_& m) {
   m.def("dual_loop_layout", [](const py::object& V, const py::object& F, const py::object& theta, double spacing,
                                double anisotropy, double max_deviation, const py::object& max_loops,
-                               const py::object& max_failed_seeds, const py::object& callback) {
+                               const py::object& max_failed_seeds, double parallel_crossing_penalty,
+                               const py::object& callback) {
     const MeshArguments mesh(V, F);
     const RealArray angles = as_real_vector(theta, "field");
     const Eigen::VectorXd field = Eigen::Map<const Eigen::VectorXd>(angles.data(), angles.shape(0));
@@ -63,6 +66,7 @@ void bind_quadrangulation_dual_loops(py::module_& m) {
     options.max_deviation_degrees = max_deviation;
     options.max_loops = integer_argument<int>(max_loops, "max_loops", 1, 1 << 20);
     options.max_failed_seeds = integer_argument<int>(max_failed_seeds, "max_failed_seeds", 0, 1 << 24);
+    options.parallel_crossing_penalty = parallel_crossing_penalty;
     const Progress progress = make_progress(callback);
     DualLoopLayout layout = without_gil([&] { return dual_loop_layout(mesh.V(), mesh.F(), field, options, progress); });
     py::list loops, crossings;
@@ -89,6 +93,7 @@ void bind_quadrangulation_dual_loops(py::module_& m) {
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("spacing") = 0.0, py::arg("anisotropy") = 4.0,
      py::arg("max_deviation") = 70.0, py::arg("max_loops") = 300, py::arg("max_failed_seeds") = 2000,
+     py::arg("parallel_crossing_penalty") = -1.0,
      py::arg("progress") = py::none(),
      "Dual-loop quad layout (§5.3); see meshsmith.quadrangulation.dual_loop_layout.");
 }

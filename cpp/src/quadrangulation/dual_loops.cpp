@@ -191,6 +191,8 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
                      " boundary loop(s) (the first through vertex " + std::to_string(checked.boundary_loops[0][0]) +
                      "); dual loops are traced on closed meshes only (fill_holes first)");
   }
+  if (std::isnan(options.parallel_crossing_penalty) || std::isinf(options.parallel_crossing_penalty))
+    throw InputError("dual_loop_layout: parallel_crossing_penalty must be finite (negative: not allowed)");
   if (!(options.anisotropy >= 1) || !std::isfinite(options.anisotropy))
     throw InputError("dual_loop_layout: anisotropy must be a finite number ≥ 1");
   if (!(options.max_deviation_degrees > 0 && options.max_deviation_degrees < 90))
@@ -233,6 +235,7 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
   std::vector<double> loop_length;
   std::vector<int> loop_seed;
   std::vector<int> crossing_vertex;
+  Eigen::Index parallel_crossings = 0;
 
   // ---- tracing -------------------------------------------------------------------------------
   std::vector<double> dist(4 * n);
@@ -274,7 +277,10 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
           relax(state, base, 4 * w + cw, cost * separation(w, cw % 2), -1);
           continue;
         }
-        if (at.loops != 1 || w == s || (cw - at.cls) % 2 == 0) continue;  // crossings: orthogonal, two loops at most
+        if (at.loops != 1 || w == s) continue;  // two loops per crossing at most
+        const bool parallel = (cw - at.cls) % 2 == 0;  // the same family: not orthogonal
+        if (parallel && !(options.parallel_crossing_penalty >= 0)) continue;
+        const double extra = parallel ? options.parallel_crossing_penalty * spacing : 0.0;
         const int deg = rings.degree(w), pa = rings.position(w, at.previous), pb = rings.position(w, at.next);
         // p strictly inside the counter-clockwise arc from the loop's previous vertex to its next one
         auto inside = [&](int p) { return p != pa && (p - pa + deg) % deg < (pb - pa + deg) % deg; };
@@ -286,7 +292,7 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
           const double cost2 = rings.cost[4 * next + cw];
           if (cost2 == kInfinity || loop_edge[rings.edge[next]]) continue;
           const int cx = mod4(cw + rings.shift[next]);
-          relax(state, base, 4 * x + cx, cost + cost2 * separation(x, cx % 2), w);
+          relax(state, base, 4 * x + cx, cost + cost2 * separation(x, cx % 2) + extra, w);
         }
       }
     };
@@ -335,6 +341,7 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
       LoopVertex& at = on_loop[v];
       if (at.loops == 1) {
         crossing_vertex.push_back(v);  // the first loop's neighbours and class stay recorded
+        parallel_crossings += (cls - at.cls) % 2 == 0;
       } else {
         at.previous = p, at.next = w, at.cls = cls;
       }
@@ -417,7 +424,7 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
     return Q;
   };
   struct Defects {
-    Eigen::Index degenerate_quads = 0, non_manifold_edges = 0, non_manifold_vertices = 0, edges = 0;
+    Eigen::Index degenerate_quads = 0, non_manifold_edges = 0, non_manifold_vertices = 0, low_valence_vertices = 0, edges = 0;
     std::vector<char> region;  ///< regions at a defect of the dual
   };
   auto layout_defects = [&](const QuadMatrix& Q, int n_regions) {
@@ -465,7 +472,11 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
         bad[i] = at != start || steps != fan[i].size();
       }
       found.non_manifold_vertices += bad[i];
-      if (bad[i]) found.region[i] = 1;
+      // A layout vertex of valence 2 (a region with two corners) is manifold but degenerate: its
+      // two quads share two consecutive edges.
+      const bool low = !fan[i].empty() && fan[i].size() < 3;
+      found.low_valence_vertices += low;
+      if (bad[i] || low) found.region[i] = 1;
     }
     return found;
   };
@@ -576,6 +587,7 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
   report.seeds_failed = failed;
   report.seeds_unclosed = failed_open;
   report.seeds_overlapping = failed_overlap;
+  report.parallel_crossings = parallel_crossings;
   report.spacing = spacing * unit;
   report.euler_input = checked.euler_characteristic;
   double worst = 0.0;
@@ -628,19 +640,34 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
   report.degenerate_quads = defects.degenerate_quads;
   report.non_manifold_edges = defects.non_manifold_edges;
   report.non_manifold_vertices = defects.non_manifold_vertices;
+  report.low_valence_vertices = defects.low_valence_vertices;
   report.euler_layout = static_cast<long long>(regions.count) - static_cast<long long>(defects.edges) + out.Q.rows();
   // Where it fails.
   std::string& why = report.failure;
   auto add = [&](const std::string& text) { why += (why.empty() ? "" : "; ") + text; };
   for (int i = 0; i < regions.count; ++i) {
     if (regions.euler[i] != 1) add("region " + std::to_string(i) + " has χ = " + std::to_string(regions.euler[i]) + " (not a disk)");
-    if (regions.singular[i] > 1) add("region " + std::to_string(i) + " holds " + std::to_string(regions.singular[i]) + " singularities");
-    if (why.size() > 600) break;
+    if (regions.singular[i] > 1) {
+      // Its singular vertices with their indices, and whether two are mesh neighbours (no edge
+      // loop can pass between those).
+      std::string list;
+      bool adjacent = false;
+      for (int v : out.singularities.vertices) {
+        if (regions.label[rings.face[rings.begin[v]]] != i) continue;
+        if (list.size() < 80) list += (list.empty() ? "" : ", ") + std::to_string(v) + (index[v] > 0 ? " (+" : " (") + std::to_string(index[v]) + ")";
+        for (int entry = rings.begin[v]; entry < rings.begin[v + 1]; ++entry)
+          adjacent |= singular[rings.neighbor[entry]] && regions.label[rings.face[entry]] == i;
+      }
+      add("region " + std::to_string(i) + " holds " + std::to_string(regions.singular[i]) + " singularities: vertices " + list +
+          (adjacent ? ", two of them neighbours" : ""));
+    }
+    if (why.size() > 2000) break;
   }
   if (report.crossings == 0) add("no two loops cross");
   if (report.degenerate_quads) add(std::to_string(report.degenerate_quads) + " layout quads repeat a region");
   if (report.non_manifold_edges) add(std::to_string(report.non_manifold_edges) + " layout edges are not shared by two quads");
   if (report.non_manifold_vertices) add(std::to_string(report.non_manifold_vertices) + " layout vertices have no single fan");
+  if (report.low_valence_vertices) add(std::to_string(report.low_valence_vertices) + " layout vertices have valence 2");
   if (report.euler_layout != report.euler_input)
     add("the layout's χ is " + std::to_string(report.euler_layout) + ", the input's " + std::to_string(report.euler_input));
   if (!why.empty()) {

@@ -24,23 +24,25 @@ class DualLoopReport(Unpackable):
     """What :func:`dual_loop_layout` selected and what its dual is; unpacks in field order.
 
     loops, crossings, segments (loop pieces between consecutive crossings), regions: counts of the
-    arrangement. region_euler, region_singularities, region_corners: (regions,) int64 per region its
+    arrangement; parallel_crossings: crossings of two loops of one family (0 unless allowed). region_euler, region_singularities, region_corners: (regions,) int64 per region its
     Euler characteristic (1: a disk), the singular vertices inside it, and the crossings on its
     boundary (its valence as a layout vertex). non_disk_regions, multi_singular_regions: regions
     with χ ≠ 1 / more than one singularity. degenerate_quads (a repeated vertex), non_manifold_edges
     (not shared by exactly two quads in opposite directions), non_manifold_vertices (quads around
-    it not one fan): defects of the layout. euler_input, euler_layout: χ of the input and of the
+    it not one fan), low_valence_vertices (valence 2: two quads sharing two edges): defects of the
+    layout (regions at a defect count as faulty in the selection). euler_input, euler_layout: χ of the input and of the
     layout. seeds_tried, seeds_failed: seeds traced, and those that gave no usable loop, of which
     seeds_unclosed found no closed path back to the seed in its direction class and
     seeds_overlapping only ones that revisit a vertex (a self-overlap).
     max_distance_to_loops: the largest distance of a vertex to the nearer loop family; spacing:
     the spacing used (input units). failure: "" when complete, else where the layout falls short.
     regions_valid: every region is a disk with at most one singularity; complete: regions valid and
-    the layout is a manifold quad mesh with the input's χ.
+    the layout is a manifold quad mesh with the input's χ and no vertex of valence 2.
     """
 
     loops: int
     crossings: int
+    parallel_crossings: int
     segments: int
     regions: int
     region_euler: IndexArray
@@ -51,6 +53,7 @@ class DualLoopReport(Unpackable):
     degenerate_quads: int
     non_manifold_edges: int
     non_manifold_vertices: int
+    low_valence_vertices: int
     euler_input: int
     euler_layout: int
     seeds_tried: int
@@ -95,7 +98,8 @@ class DualLoopLayout(Unpackable):
 @_arguments.real_options
 def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: float | None = None,
                      anisotropy: float = 4.0, max_deviation: float = 70.0, max_loops: int = 300,
-                     max_failed_seeds: int = 2000, progress: ProgressCallback = None) -> DualLoopLayout:
+                     max_failed_seeds: int = 2000, parallel_crossing_penalty: float | None = None,
+                     progress: ProgressCallback = None) -> DualLoopLayout:
     """A coarse quad layout from dual loops along a cross field (§5.3; Campen, Bommes & Kobbelt 2012).
 
     Loops are closed edge paths following one direction of the field: each is the shortest closed
@@ -112,6 +116,8 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
     field: a :class:`CrossField`, (m,) angles or (m, 3) directions (as :func:`cross_field`).
     spacing: target distance between neighbouring loops of one family, in input units (about the
     layout's edge length); None: sqrt(area) / 4. max_loops, max_failed_seeds: when to give up.
+    parallel_crossing_penalty: None (default): loops of one family never cross; a number ≥ 0: they
+    may, at that extra cost × spacing (sheared layout quads there, counted in the report).
     progress: optional callback (fraction, stage) -> bool (False cancels).
     Returns a :class:`DualLoopLayout` (unpacks as ``loops, region, Vq, Q, report``);
     ``report.complete`` says the layout is a manifold quad mesh with the input's Euler
@@ -126,10 +132,17 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
         length = float(spacing)
         if not (np.isfinite(length) and length > 0):
             raise InputError(f"dual_loop_layout: spacing must be a finite number > 0, got {spacing}")
+    penalty = -1.0
+    if parallel_crossing_penalty is not None:
+        penalty = float(parallel_crossing_penalty)
+        if not (np.isfinite(penalty) and penalty >= 0):
+            raise InputError(f"dual_loop_layout: parallel_crossing_penalty must be None or a finite number >= 0, "
+                             f"got {parallel_crossing_penalty}")
     mesh = on_referenced_vertices(V, F)
     out = _core.dual_loop_layout(mesh.V, mesh.F, theta, spacing=length, anisotropy=anisotropy,
                                  max_deviation=max_deviation, max_loops=max_loops,
-                                 max_failed_seeds=max_failed_seeds, progress=_arguments.progress(progress))
+                                 max_failed_seeds=max_failed_seeds, parallel_crossing_penalty=penalty,
+                                 progress=_arguments.progress(progress))
     to_input = mesh.to_input_indices
     return DualLoopLayout(
         loops=[to_input(loop) for loop in out["loops"]], loop_crossings=list(out["loop_crossings"]),

@@ -34,6 +34,9 @@ struct DualLoopOptions {
   double max_deviation_degrees = 70;  ///< edges deviating more from the loop's direction are not taken, in (0, 90)
   int max_loops = 300;                ///< loops selected at most
   int max_failed_seeds = 2000;        ///< seeds whose trace gave no usable loop, at most (then the selection stops)
+  /// Crossings of two loops of one family (not orthogonal): < 0 not allowed; ≥ 0 allowed at this
+  /// extra cost × spacing (a looser layout whose quads at those crossings are sheared).
+  double parallel_crossing_penalty = -1.0;
 };
 
 /// One selected loop: a closed edge path (vertices[k] → vertices[k+1], the last back to the first).
@@ -46,6 +49,7 @@ struct DualLoop {
 
 struct DualLoopReport {
   Eigen::Index loops = 0, crossings = 0, segments = 0, regions = 0;
+  Eigen::Index parallel_crossings = 0;    ///< crossings of two loops of one family (0 unless allowed)
   std::vector<int> region_euler;          ///< #regions χ of each region (1: a disk)
   std::vector<int> region_singularities;  ///< #regions singular vertices inside each region
   std::vector<int> region_corners;        ///< #regions crossing corners on each region's boundary (its layout valence)
@@ -54,6 +58,7 @@ struct DualLoopReport {
   Eigen::Index degenerate_quads = 0;      ///< layout quads with a repeated vertex
   Eigen::Index non_manifold_edges = 0;    ///< layout edges not shared by exactly two quads in opposite directions
   Eigen::Index non_manifold_vertices = 0; ///< layout vertices whose quads do not form one fan
+  Eigen::Index low_valence_vertices = 0;  ///< layout vertices of valence 2 (two quads sharing two edges)
   long long euler_input = 0, euler_layout = 0;
   Eigen::Index seeds_tried = 0, seeds_failed = 0;
   Eigen::Index seeds_unclosed = 0;     ///< of the failed: no closed path back to the seed in its class within the budget
@@ -65,6 +70,7 @@ struct DualLoopReport {
   bool regions_valid() const { return non_disk_regions == 0 && multi_singular_regions == 0; }
   bool complete() const {
     return regions_valid() && degenerate_quads == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 &&
+           low_valence_vertices == 0 &&
            euler_layout == euler_input && crossings > 0;
   }
 };
