@@ -17,7 +17,10 @@
 // the field, which the anisotropic cost keeps on average along it — the curriculum's "ellipse
 // that grows fast along the field"). A vertex on a loop is entered only by a crossing move
 // u → v → w: u and w on opposite sides of that loop at v and the class at v orthogonal to the
-// loop's; vertices where two loops cross, loop edges and singular vertices are closed. A path that
+// loop's (or, with parallel_crossing_penalty ≥ 0, of its family at that extra cost: a loop that
+// separates a dipole often has to cross a loop of its own family somewhere — on bumpy-cube four
+// dipoles stayed together without it); vertices where two loops cross, loop edges and singular
+// vertices are closed. A path that
 // visits a vertex twice (a self-overlap) is rejected and the seed marked as tried.
 //
 // Regions are the face components across non-loop edges; χ of a region counts its faces, its

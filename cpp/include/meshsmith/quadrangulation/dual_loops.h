@@ -10,7 +10,7 @@
 /// tracing), returning to the seed with the same direction class after the field's period jumps.
 /// Loops never pass through a singular vertex, never share an edge, never revisit a vertex, and
 /// cross each other only transversally at a vertex, with orthogonal direction classes (two
-/// loops per crossing at most). The loops cut the surface into regions; the arrangement's dual —
+/// loops per crossing at most; loops of one family may cross where parallel_crossing_penalty ≥ 0). The loops cut the surface into regions; the arrangement's dual —
 /// one vertex per region, one quad per crossing — is the coarse quad layout.
 #include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
