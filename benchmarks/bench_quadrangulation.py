@@ -16,6 +16,13 @@ Printed per tool: quads, non-quad faces, irregular (valence ≠ 4) interior vert
 Result checks (tolerances): meshsmith's mesh is pure quads, manifold and oriented (0 violations);
 on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 40% of the
 target (MIQ sets the grid size from the area, so the count follows the map's scale).
+
+Dual-loop layouts (§5.3, `dual_loop_layout`, no peer on PyPI): the torus (48×16) and spot's smooth
+cross field (computed once, outside the timing), default spacing; printed: loops, crossings
+(= coarse quads), regions (= layout vertices), regions left with several singularities, whether
+the layout is complete; spot again with parallel crossings allowed (parallel_crossing_penalty=4).
+Checks: the torus layout complete with every layout vertex of valence 4; every region of spot a
+disk; with parallel crossings, spot's layout a manifold with χ = 2.
 """
 import sys
 from pathlib import Path
@@ -27,7 +34,7 @@ from harness import Benchmark, optional, shared_data_dir, size  # noqa: E402
 
 from meshsmith import datasets, geometry, io, repair, topology  # noqa: E402
 from meshsmith.io import Polygons  # noqa: E402
-from meshsmith.quadrangulation import quad_quality, quadrangulate  # noqa: E402
+from meshsmith.quadrangulation import cross_field, dual_loop_layout, quad_quality, quadrangulate  # noqa: E402
 
 
 def shared_mesh(name):
@@ -111,6 +118,39 @@ def main():
         if name == "torus":
             bench.check("torus: irregular vertices + (χ ≠ 0)",
                         figures["meshsmith"]["irregular"] + (not report.extraction.complete), 0)
+
+    dual_loop_cases()
+
+
+def dual_loop_cases():
+    cases = [("torus", datasets.torus(1.0, 0.35, 48, 16), dict(curvature_weight=1.0), None)]
+    spot = shared_mesh("spot.obj")
+    if spot is not None:
+        cases += [("spot.obj", spot, dict(align="smooth"), None), ("spot.obj", spot, dict(align="smooth"), 4.0)]
+    for name, (V, F), options, penalty in cases:
+        V, F = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+        field = cross_field(V, F, **options)
+        crossing = "" if penalty is None else f", parallel crossings at cost {penalty:g}"
+        bench = Benchmark("quadrangulation", f"dual_loop_layout {name} ({len(F):,} F{crossing})", repeats=3)
+        bench.time("meshsmith", lambda: dual_loop_layout(V, F, field, parallel_crossing_penalty=penalty))
+        bench.report()
+        layout = bench.output("meshsmith")
+        report = layout.report
+        print(f"  {len(layout.singular_vertices)} singularities; {report.loops} loops, {report.crossings} coarse quads, "
+              f"{report.regions} regions ({report.multi_singular_regions} with several singularities, "
+              f"{report.non_disk_regions} not disks), layout χ {report.euler_layout} (input {report.euler_input}), "
+              f"{report.parallel_crossings} parallel crossings, {report.low_valence_vertices} layout vertices of "
+              f"valence 2, complete: {report.complete}")
+        if name == "torus":
+            valence = np.bincount(layout.Q.ravel(), minlength=report.regions)
+            bench.check("torus: (not complete) + layout vertices of valence ≠ 4",
+                        (not report.complete) + int((valence != 4).sum()), 0)
+        else:
+            bench.check(f"{name}: regions that are not disks", report.non_disk_regions, 0)
+        if penalty is not None:
+            bench.check(f"{name}: non-manifold layout edges + vertices + |χ − χ_input|",
+                        report.non_manifold_edges + report.non_manifold_vertices
+                        + abs(report.euler_layout - report.euler_input), 0)
 
 
 if __name__ == "__main__":

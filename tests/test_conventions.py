@@ -253,6 +253,12 @@ RESULTS = {
     "quadrangulation.quad_quality": (
         lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
         [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),
+    "quadrangulation.dual_loop_layout": (
+        lambda tmp: quadrangulation.dual_loop_layout(*datasets.icosphere(2), quadrangulation.cross_field(*datasets.icosphere(2))),
+        ["loops", "region", "Vq", "Q", "report"]),
+    "quadrangulation.dual_loop_layout report": (
+        lambda tmp: quadrangulation.dual_loop_layout(*datasets.icosphere(2), quadrangulation.cross_field(*datasets.icosphere(2))).report,
+        [field.name for field in dataclasses.fields(quadrangulation.DualLoopReport)]),
     "reconstruction.marching_cubes": (lambda tmp: meshsmith.reconstruction.marching_cubes(ball_grid()),
                                       ["V", "F", "centre_vertices", "blocks", "evaluations"]),
     "reconstruction.mesh_sdf": (lambda tmp: meshsmith.reconstruction.mesh_sdf(*datasets.icosphere(1), np.eye(3)),

@@ -31,6 +31,7 @@ void bind_smoothing_fairing(pybind11::module_& m);       // module.cpp calls bot
 void bind_deformation(pybind11::module_& m);
 void bind_quadrangulation(pybind11::module_& m);
 void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls it on "quadrangulation"
+void bind_quadrangulation_dual_loops(pybind11::module_& m);  // on "quadrangulation"
 void bind_reconstruction(pybind11::module_& m);
 void bind_reconstruction_graph_cut(pybind11::module_& m);  // on "reconstruction"
 }  // namespace meshsmith::python

@@ -5,10 +5,12 @@ extraction that reads it, and quad-mesh quality.
 Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3), quads ``Q`` int64 (k, 4). Bad input
 raises :class:`meshsmith.InputError`.
 
-Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``.
+Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``,
+``dual_loops`` (§5.3: dual-loop quad layouts).
 """
 from .cross_field import CrossField, Singularities, cross_field, field_angles, singularities
 from .cut_graph import FieldCut, cut_graph
+from .dual_loops import DualLoopLayout, DualLoopReport, dual_loop_layout
 from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
 from .miq import MiqResult, miq
 from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
@@ -16,4 +18,5 @@ from .quality import QuadQuality, quad_quality
 
 __all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
-           "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate"]
+           "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate",
+           "DualLoopLayout", "DualLoopReport", "dual_loop_layout"]
