@@ -67,6 +67,29 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
     assert 0.8 * 3000 < len(Q) < 1.2 * 3000
     # not yet: some quads are non-convex (min scaled Jacobian −0.57 here; the issue asks > 0)
 
+# The shared meshes at 3,000 quads (measured 2026-12-01): every one flip-free, complete, manifold,
+# oriented, with the input's χ, after merging singularity pairs closer than 1 (or 1.5) quad edges.
+# The minimum scaled Jacobian is not yet > 0 everywhere (the issue asks > 0): measured spot
+# 0.007, pmp-bunny −0.49, rocker-arm −0.25, fertility 0.09, fandisk 0.46, kitten −0.18; the
+# bounds below are those figures, not the target.
+SHARED = {"spot.obj": 0.0, "pmp-bunny.off": -0.55, "rocker-arm.obj": -0.3, "fertility.off": 0.05,
+          "fandisk.obj": 0.4, "kitten.off": -0.25}
+
+
+@pytest.mark.parametrize("name", sorted(SHARED))
+def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
+    V, F = io.read_mesh(data_dir / name)
+    Vq, Q, report = quadrangulate(V, F, target_faces=3000)
+    euler = topology.euler_characteristic(F)
+    assert report.flipped_after == 0
+    assert report.extraction.complete
+    assert_valid(Vq, Q, euler)
+    assert report.singular_indices.sum() == 4 * euler  # Poincaré–Hopf
+    assert 0.85 * 3000 < len(Q) < 1.15 * 3000
+    assert report.min_scaled_jacobian > SHARED[name]
+    assert report.miq_attempts <= 2 and report.merge_distance > 0
+
+
 def test_sphere_is_closed_and_valid():
     V, F = datasets.icosphere(3)
     Vq, Q, report = quadrangulate(V, F, target_faces=200)

@@ -7,13 +7,13 @@ raises :class:`meshsmith.InputError`.
 
 Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``.
 """
-from .cross_field import CrossField, Singularities, cross_field, field_angles, singularities
+from .cross_field import CrossField, Singularities, cross_field, field_angles, merge_singularities, singularities
 from .cut_graph import FieldCut, cut_graph
 from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
 from .miq import MiqResult, miq
 from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
 from .quality import QuadQuality, quad_quality
 
-__all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldCut",
+__all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "merge_singularities", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
            "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate"]

@@ -71,18 +71,7 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
         raise InputError("miq: give target_edge_length or target_quads, not both")
     theta = field_angles(V, F, field)
     mesh = on_referenced_vertices(V, F)
-    P = np.asarray(mesh.V, dtype=np.float64)
-    faces = np.asarray(mesh.F, dtype=np.int64)
-    if target_edge_length is not None:
-        length = float(target_edge_length)
-        if not (np.isfinite(length) and length > 0):
-            raise InputError(f"miq: target_edge_length must be a finite number > 0, got {target_edge_length}")
-    elif target_quads is not None:
-        quads = _arguments.integer(target_quads, "target_quads", 1, 2 ** 40)
-        area = 0.5 * np.linalg.norm(np.cross(P[faces[:, 1]] - P[faces[:, 0]], P[faces[:, 2]] - P[faces[:, 0]]), axis=1).sum()
-        length = float(np.sqrt(area / quads))
-    else:
-        length = float(2 * np.linalg.norm(P[faces] - P[np.roll(faces, -1, axis=1)], axis=2).mean())
+    length = grid_length(mesh.V, mesh.F, target_edge_length, target_quads, "miq")
     out = _core.miq(mesh.V, mesh.F, theta, target_edge_length=length, round_singularities=round_singularities,
                     round_translations=round_translations, repair_iterations=repair_iterations,
                     stiffening=stiffening, progress=progress)
@@ -90,3 +79,21 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
                      cut=field_cut(out["cut"], mesh, V), integer_variables=int(out["integer_variables"]),
                      rounding_residual=float(out["rounding_residual"]), repair_rounds=int(out["repair_rounds"]),
                      target_edge_length=length)
+
+
+def grid_length(V: ArrayLike, F: ArrayLike, target_edge_length: float | None, target_quads: int | None,
+                function: str) -> float:
+    """The quad edge length in input units: target_edge_length (checked > 0), else
+    √(surface area / target_quads), else twice the mean length of the faces' sides."""
+    P = np.asarray(V, dtype=np.float64)
+    faces = np.asarray(F, dtype=np.int64)
+    if target_edge_length is not None:
+        length = float(target_edge_length)
+        if not (np.isfinite(length) and length > 0):
+            raise InputError(f"{function}: target_edge_length must be a finite number > 0, got {target_edge_length}")
+        return length
+    if target_quads is not None:
+        quads = _arguments.integer(target_quads, "target_quads", 1, 2 ** 40)
+        area = 0.5 * np.linalg.norm(np.cross(P[faces[:, 1]] - P[faces[:, 0]], P[faces[:, 2]] - P[faces[:, 0]]), axis=1).sum()
+        return float(np.sqrt(area / quads))
+    return float(2 * np.linalg.norm(P[faces] - P[np.roll(faces, -1, axis=1)], axis=2).mean())

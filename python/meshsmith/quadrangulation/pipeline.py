@@ -10,9 +10,9 @@ from .. import _arguments
 from .._core import InputError
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
-from .cross_field import cross_field, singularities
+from .cross_field import CrossField, cross_field, merge_singularities, singularities
 from .extraction import QuadExtractionReport, extract_quads
-from .miq import miq
+from .miq import grid_length, miq
 from .quality import quad_quality
 
 __all__ = ["QuadrangulationReport", "Quadrangulation", "quadrangulate"]
@@ -30,7 +30,10 @@ class QuadrangulationReport(Unpackable):
     irregular_vertices: interior vertices of the quad mesh whose valence is not 4; mean_angle_deviation,
     max_angle_deviation: over every quad corner, |angle − 90°| in degrees; min_scaled_jacobian:
     over every corner (these three are NaN when no quad was made: a grid too coarse for the
-    surface). The report holds no timings, so equal calls give equal reports.
+    surface); merge_distance: the distance (input units) below which the field's singularity
+    pairs were cancelled or moved apart (:func:`merge_singularities`; 0: not merged);
+    miq_attempts: MIQ solves run (one per merge distance tried). The report holds no timings, so
+    equal calls give equal reports.
     """
 
     quads: int
@@ -45,6 +48,13 @@ class QuadrangulationReport(Unpackable):
     mean_angle_deviation: float
     max_angle_deviation: float
     min_scaled_jacobian: float
+    merge_distance: float
+    miq_attempts: int
+
+
+#: Merge distances tried, in quad edges, until MIQ leaves no flipped triangle: measured at 3,000
+#: quads, 1.0 left 0 flips on pmp-bunny, fertility, spot and fandisk, 1.5 on rocker-arm and kitten.
+MERGE_SCHEDULE = (1.0, 1.5, 2.0, 0.5)
 
 
 @dataclass(frozen=True)
@@ -77,7 +87,8 @@ def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCall
 @_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
-                  sharp_angle: float | None = None, progress: ProgressCallback = None) -> Quadrangulation:
+                  sharp_angle: float | None = None, merge: bool = True,
+                  progress: ProgressCallback = None) -> Quadrangulation:
     """Quadrangulate a triangle mesh: a smooth cross field, its mixed-integer seamless
     parametrization, and the quad mesh of that map's integer grid (§5.2.2; Bommes et al. 2009,
     Ebke et al. 2013).
@@ -87,6 +98,9 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     area), or target_edge_length: the quad edge length in input units; neither: MIQ's default
     (twice the mean triangle side). align, sharp_angle: as :func:`cross_field` ("curvature",
     "boundary" or "smooth"; feature edges above sharp_angle degrees are followed).
+    merge: cancel or separate singularity pairs closer than about a quad edge before MIQ
+    (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (× the quad edge)
+    until MIQ leaves no flipped triangle, and keeping the attempt with the fewest.
     progress: optional callback (fraction, stage) -> bool (False cancels).
 
     Returns a :class:`Quadrangulation` (unpacks as ``V, Q, report``): always a manifold,
@@ -102,9 +116,22 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         target_faces = _arguments.integer(target_faces, "target_faces", 1, 2 ** 24)
     progress = _arguments.progress(progress)
     field = cross_field(V, F, align=align, sharp_angle=sharp_angle, progress=_stage(progress, 0.0, 0.15))
+    length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
+    schedule: tuple[float, ...] = MERGE_SCHEDULE if merge else (0.0,)
+    fixed = _feature_faces(V, F, field, sharp_angle)
+    best = None
+    for attempt, factor in enumerate(schedule):
+        trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
+        begin = 0.15 + 0.7 * attempt / len(schedule)
+        param = miq(V, F, trial, target_edge_length=length,
+                    progress=_stage(progress, begin, begin + 0.7 / len(schedule)))
+        if best is None or param.flipped_after < best[1].flipped_after:
+            best = (trial, param, factor * length)
+        if param.flipped_after == 0:
+            break
+    assert best is not None
+    field, param, merge_distance = best
     singular = singularities(V, F, field)
-    param = miq(V, F, field, target_edge_length=target_edge_length, target_quads=target_faces,
-                progress=_stage(progress, 0.15, 0.85))
     quads = extract_quads(V, F, param.UV, progress=_stage(progress, 0.85, 1.0))
     if len(quads.Q):
         quality = quad_quality(quads.V, quads.Q)
@@ -120,8 +147,21 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         singular_vertices=singular.vertices, singular_indices=singular.indices,
         flipped_before=param.flipped_before, flipped_after=param.flipped_after, extraction=quads.report,
         irregular_vertices=irregular, mean_angle_deviation=mean_deviation, max_angle_deviation=max_deviation,
-        min_scaled_jacobian=min_jacobian)
+        min_scaled_jacobian=min_jacobian, merge_distance=merge_distance, miq_attempts=attempt + 1)
     return Quadrangulation(quads.V, quads.Q, param.UV, report)
+
+
+def _feature_faces(V: ArrayLike, F: ArrayLike, field: CrossField, sharp_angle: float | None) -> IndexArray | None:
+    """The faces on edges whose dihedral angle exceeds sharp_angle (the field's hard feature
+    constraints), or None."""
+    if sharp_angle is None:
+        return None
+    P, T = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    normal = np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    pairs = field.edge_faces[field.edge_faces[:, 1] >= 0]
+    sharp = np.einsum("ij,ij->i", normal[pairs[:, 0]], normal[pairs[:, 1]]) < np.cos(np.radians(float(sharp_angle)))
+    return np.unique(pairs[sharp].ravel())
 
 
 def _irregular_vertices(Q: IndexArray, valence: IndexArray) -> int:
