@@ -5,6 +5,7 @@ import pytest
 import meshsmith
 from meshsmith import cli, datasets, io, topology
 from meshsmith.quadrangulation import quad_quality, quadrangulate
+from meshsmith.quadrangulation.pipeline import MERGE_SCHEDULE
 
 
 def triangles(Q):
@@ -65,15 +66,16 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
     assert report.extraction.complete
     assert_valid(Vq, Q, 2)
     assert 0.8 * 3000 < len(Q) < 1.2 * 3000
-    # not yet: some quads are non-convex (min scaled Jacobian −0.57 here; the issue asks > 0)
+    # as extracted some quads next to cones are non-convex (−0.57); relaxed, 0.35 (measured)
+    assert report.min_scaled_jacobian_extracted < 0 < 0.3 < report.min_scaled_jacobian
 
 # The shared meshes at 3,000 quads (measured 2026-12-01): every one flip-free, complete, manifold,
-# oriented, with the input's χ, after merging singularity pairs closer than 1 (or 1.5) quad edges.
-# The minimum scaled Jacobian is not yet > 0 everywhere (the issue asks > 0): measured spot
-# 0.007, pmp-bunny −0.49, rocker-arm −0.25, fertility 0.09, fandisk 0.46, kitten −0.18; the
-# bounds below are those figures, not the target.
-SHARED = {"spot.obj": 0.0, "pmp-bunny.off": -0.55, "rocker-arm.obj": -0.3, "fertility.off": 0.05,
-          "fandisk.obj": 0.4, "kitten.off": -0.25}
+# oriented, with the input's χ, after merging singularity pairs closer than 1 (or 1.5) quad edges,
+# and every quad convex after relaxing the worst ones: minimum scaled Jacobian spot 0.28,
+# pmp-bunny 0.21, rocker-arm 0.41, fertility 0.23, fandisk 0.46, kitten 0.21 (as extracted
+# 0.007, −0.49, −0.25, 0.09, 0.46, −0.18).
+SHARED = {"spot.obj": 0.25, "pmp-bunny.off": 0.18, "rocker-arm.obj": 0.35, "fertility.off": 0.2,
+          "fandisk.obj": 0.4, "kitten.off": 0.18}
 
 
 @pytest.mark.parametrize("name", sorted(SHARED))
@@ -88,6 +90,18 @@ def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
     assert 0.85 * 3000 < len(Q) < 1.15 * 3000
     assert report.min_scaled_jacobian > SHARED[name]
     assert report.miq_attempts <= 2 and report.merge_distance > 0
+
+
+def test_fandisk_with_sharp_angle_is_closed_and_valid(data_dir):
+    # With sharp_angle the field follows fandisk's features; MIQ's feature iso-lines still fold
+    # (34 flips, test_quadrangulation_miq), so quadrangulate falls back to the field alignment
+    # alone (report.feature_edges == 0 today; 12% of the feature points within 0.05 quad edges
+    # of a quad edge, 16% without sharp_angle): the result is still closed and valid.
+    V, F = io.read_mesh(data_dir / "fandisk.obj")
+    Vq, Q, report = quadrangulate(V, F, target_faces=3000, sharp_angle=40)
+    assert report.flipped_after == 0 and report.extraction.complete
+    assert_valid(Vq, Q, 2)
+    assert report.miq_attempts > len(MERGE_SCHEDULE)  # the feature-constrained attempts ran first
 
 
 def test_sphere_is_closed_and_valid():

@@ -4,7 +4,7 @@ src/quadrangulation/cross_field.cpp.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Union
+from typing import Any, Union
 
 import numpy as np
 
@@ -189,19 +189,22 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
     import scipy.sparse.csgraph
     import scipy.sparse.linalg
 
+    dijkstra: Any = scipy.sparse.csgraph.dijkstra  # (scipy-stubs' overloads miss limit= with indices=)
+
     mesh = on_referenced_vertices(V, F)
     P, T = np.asarray(mesh.V, dtype=np.float64), np.asarray(mesh.F, dtype=np.int64)
     if len(field.theta) != len(T):
         raise InputError(f"merge_singularities: the field has {len(field.theta)} faces but the mesh has {len(T)}")
     n, m = len(P), len(T)
     theta = np.asarray(field.theta, dtype=np.float64)
-    # The field's edges on the referenced numbering (field.edges is on the input's).
-    edges = np.asarray(_core.field_edges(P, T, theta)["edges"], dtype=np.int64)
-    edge_faces = np.asarray(field.edge_faces, dtype=np.int64)
+    computed = _core.field_edges(P, T, theta)  # (the field's own arrays are on the input's numbering)
+    edges = np.asarray(computed["edges"], dtype=np.int64)
+    edge_faces = np.asarray(computed["edge_faces"], dtype=np.int64)
+    connection = np.asarray(computed["connection"], dtype=np.float64)
     interior = edge_faces[:, 1] >= 0
     # the unreduced jumps (field.period_jumps are mod 4: the angle energy needs the whole turns)
     g = np.where(interior, edge_faces[:, 1], edge_faces[:, 0])
-    jumps = np.round((theta[g] - theta[edge_faces[:, 0]] - field.connection) / (np.pi / 2)).astype(np.int64)
+    jumps = np.round((theta[g] - theta[edge_faces[:, 0]] - connection) / (np.pi / 2)).astype(np.int64)
     vertices, indices = _core.singularities(P, T, theta)
     index = np.zeros(n, dtype=np.int64)
     index[np.asarray(vertices, dtype=np.int64)] = indices
@@ -213,7 +216,7 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
     length = np.linalg.norm(P[edges[:, 1]] - P[edges[:, 0]], axis=1)
     e_in = np.nonzero(interior)[0]
     graph = scipy.sparse.coo_matrix((length[e_in], (edges[e_in, 0], edges[e_in, 1])), shape=(n, n)).tocsr()
-    dist, predecessors = scipy.sparse.csgraph.dijkstra(graph, directed=False, indices=candidates, limit=distance,
+    dist, predecessors = dijkstra(graph, directed=False, indices=candidates, limit=distance,
                                                        return_predecessors=True)
     edge_id = {(int(a), int(b)): k for k, (a, b) in enumerate(edges)}
     row_of = {int(v): r for r, v in enumerate(candidates)}
@@ -241,18 +244,18 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
         if ia * ib < 0:  # a ±1 pair: cancel
             move(a, b, predecessors[row_of[a]])
         elif a < b:  # same sign: move a to the vertex within `distance` of a farthest from b
-            around, row = scipy.sparse.csgraph.dijkstra(graph, directed=False, indices=a, limit=distance,
+            around, row = dijkstra(graph, directed=False, indices=a, limit=distance,
                                                        return_predecessors=True)
-            from_b = scipy.sparse.csgraph.dijkstra(graph, directed=False, indices=b, limit=3 * distance)
+            from_b = dijkstra(graph, directed=False, indices=b, limit=3 * distance)
             reach = np.isfinite(around) & np.isfinite(from_b) & (index == 0) & ~boundary_vertex
             if reach.any():
                 move(a, int(np.argmax(np.where(reach, from_b, -np.inf))), row)
     if not moved:
         return field
     # Re-solve the angles near the moved singularities with the jumps fixed.
-    near = scipy.sparse.csgraph.dijkstra(graph, directed=False, indices=np.unique(moved), limit=2 * distance,
+    near = dijkstra(graph, directed=False, indices=np.unique(moved), limit=2 * distance,
                                          min_only=True)
-    free = np.isfinite(near)[T].any(axis=1)
+    free: np.ndarray = np.asarray(np.isfinite(near)[T].any(axis=1), dtype=bool)
     if fixed_faces is not None:
         if len(fixed_faces) and (fixed_faces.min() < 0 or fixed_faces.max() >= m):
             raise InputError(f"merge_singularities: fixed_faces must be face indices in [0, {m})")
@@ -262,7 +265,7 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
     f0, f1 = edge_faces[e_in, 0], edge_faces[e_in, 1]
     a0 = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
     w = length[e_in] ** 2 / (a0[f0] + a0[f1])
-    target = np.asarray(field.connection, dtype=np.float64)[e_in] + jumps[e_in] * (np.pi / 2)  # θ_f1 − θ_f0 ≈ target
+    target = connection[e_in] + jumps[e_in] * (np.pi / 2)  # θ_f1 − θ_f0 ≈ target
     number = np.full(m, -1, dtype=np.int64)
     number[free] = np.arange(free.sum())
     k = int(free.sum())
@@ -274,22 +277,26 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
         a_free = number[fa] >= 0
         np.add.at(diagonal, number[fa[a_free]], w[a_free])
         both = a_free & (number[fb] >= 0)
-        rows.append(number[fa[both]]), cols.append(number[fb[both]]), vals.append(-w[both])
+        rows.append(number[fa[both]])
+        cols.append(number[fb[both]])
+        vals.append(-w[both])
         held = a_free & (number[fb] < 0)
         np.add.at(rhs, number[fa[held]], w[held] * theta[fb[held]])
         np.add.at(rhs, number[fa[a_free]], sign * w[a_free] * target[a_free])
-    rows.append(np.arange(k)), cols.append(np.arange(k)), vals.append(diagonal)
+    rows.append(np.arange(k))
+    cols.append(np.arange(k))
+    vals.append(diagonal)
     rhs += 1e-9 * w.mean() * theta[free]
     A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(k, k))
     solved = theta.copy()
     solved[free] = scipy.sparse.linalg.spsolve(A, rhs)
     solved -= (np.pi / 2) * np.floor(solved / (np.pi / 2))
     edges_out = _core.field_edges(P, T, solved)
-    a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
-    e1 = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
-    normal = np.cross(b - a, c - a)
+    p0, p1, p2 = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    e1 = (p1 - p0) / np.linalg.norm(p1 - p0, axis=1, keepdims=True)
+    normal = np.cross(p1 - p0, p2 - p0)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     directions = np.cos(solved)[:, None] * e1 + np.sin(solved)[:, None] * np.cross(normal, e1)
-    return CrossField(theta=solved, directions=directions, edges=field.edges, edge_faces=field.edge_faces,
-                      connection=field.connection, period_jumps=np.asarray(edges_out["period_jumps"], dtype=np.int64),
+    return CrossField(theta=solved, directions=directions, edges=mesh.vertex_map[edges] if mesh.removed else edges,
+                      edge_faces=edge_faces, connection=connection, period_jumps=np.asarray(edges_out["period_jumps"], dtype=np.int64),
                       constrained_faces=field.constrained_faces)
