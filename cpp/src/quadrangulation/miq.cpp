@@ -19,10 +19,12 @@
 //    replaced by the identity, so every re-solve reuses the symbolic analysis), and triangles
 //    that come out flipped are stiffened and the map re-solved, a few rounds (a round with more
 //    flips is undone and the factor softened; stopping after three without fewer flips). The
-//    flips this leaves (7 of 69,666 on pmp-bunny at 3,000 quads)
-//    sit at valence-5 cones whose fan has an obtuse triangle holding ~160° of the cone's 450° in
-//    the continuous map, folded when the rounding moves the cone; moving the integers those
-//    vertices depend on by ±1 (a re-solve each) was tried and removed none of them.
+//    flips this leaves (7 of 69,666 on pmp-bunny at 3,000 quads, 7 on rocker-arm) sit at cones
+//    0.2–0.3 quad edges from another cone, which the rounding puts on the same or the next
+//    integer point; stiffening (×2 to ×20, 30 rounds), moving the integers those vertices depend
+//    on by ±1 and splitting the cones' obtuse triangles removed none of them; cancelling or
+//    separating such pairs in the field does (quadrangulation.merge_singularities, applied by
+//    quadrangulate: 0 flips on the six shared meshes at 3,000 quads).
 #include <meshsmith/quadrangulation/miq.h>
 
 #include "field_geometry.h"
