@@ -239,6 +239,7 @@ VALID = {
     "quadrangulation.quadrangulate": {"target_faces": 40},
     "quadrangulation.dual_loop_layout": {"field": np.linspace(0.0, 1.0, len(SPHERE_F)), "spacing": 0.5, "max_loops": 8,
                                          "max_failed_seeds": 20},
+    "quadrangulation.merge_singularities": {"field": meshsmith.quadrangulation.cross_field(SPHERE_V, SPHERE_F), "distance": 0.8},
     "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
                                      "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
     "reconstruction.marching_cubes": {"values": BALL_VALUES},
@@ -269,7 +270,8 @@ NAN_ALLOWED: dict[str, tuple] = {
                                      "vertex_stretch_linf"),
     "repair.ReferencedMesh.to_input_rows": ("result",),   # `fill`, NaN by default, in the unreferenced rows
     # no quad at all (a grid too coarse for the surface): the quality figures are undefined
-    "quadrangulation.quadrangulate": ("mean_angle_deviation", "max_angle_deviation", "min_scaled_jacobian"),
+    "quadrangulation.quadrangulate": ("mean_angle_deviation", "max_angle_deviation", "min_scaled_jacobian",
+                                      "min_scaled_jacobian_extracted"),
 }
 #: Functions that take arrays of any shape (their dimension and column variants are valid input).
 ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_input_indices",

@@ -5,6 +5,7 @@ import pytest
 import meshsmith
 from meshsmith import cli, datasets, io, topology
 from meshsmith.quadrangulation import quad_quality, quadrangulate
+from meshsmith.quadrangulation.pipeline import MERGE_SCHEDULE
 
 
 def triangles(Q):
@@ -65,7 +66,55 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
     assert report.extraction.complete
     assert_valid(Vq, Q, 2)
     assert 0.8 * 3000 < len(Q) < 1.2 * 3000
-    # not yet: some quads are non-convex (min scaled Jacobian −0.57 here; the issue asks > 0)
+    # as extracted some quads next to cones are non-convex (−0.57); relaxed, 0.35 (measured)
+    assert report.min_scaled_jacobian_extracted < 0 < 0.3 < report.min_scaled_jacobian
+
+# The shared meshes at 3,000 quads (measured 2026-12-01): every one flip-free, complete, manifold,
+# oriented, with the input's χ, after merging singularity pairs closer than 1 (or 1.5) quad edges,
+# and every quad convex after relaxing the worst ones: minimum scaled Jacobian spot 0.28,
+# pmp-bunny 0.21, rocker-arm 0.41, fertility 0.23, fandisk 0.46, kitten 0.21 (as extracted
+# 0.007, −0.49, −0.25, 0.09, 0.46, −0.18).
+SHARED = {"spot.obj": 0.25, "pmp-bunny.off": 0.18, "rocker-arm.obj": 0.35, "fertility.off": 0.2,
+          "fandisk.obj": 0.4, "kitten.off": 0.18}
+
+
+@pytest.mark.parametrize("name", sorted(SHARED))
+def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
+    V, F = io.read_mesh(data_dir / name)
+    Vq, Q, report = quadrangulate(V, F, target_faces=3000)
+    euler = topology.euler_characteristic(F)
+    assert report.flipped_after == 0
+    assert report.extraction.complete
+    assert_valid(Vq, Q, euler)
+    assert report.singular_indices.sum() == 4 * euler  # Poincaré–Hopf
+    assert 0.85 * 3000 < len(Q) < 1.15 * 3000
+    assert report.min_scaled_jacobian > SHARED[name]
+    assert report.miq_attempts <= 2 and report.merge_distance > 0
+
+
+@pytest.mark.parametrize("name, quads, flips", [("kitten.off", 2000, 0), ("rocker-arm.obj", 5000, 0),
+                                                ("kitten.off", 5000, 1)])
+def test_other_sizes(data_dir, name, quads, flips):
+    # kitten at 2,000 quads needs the merge at 2.5 quad edges, rocker-arm at 5,000 at 2.5; kitten
+    # at 5,000 keeps 1 flipped triangle at best (0.75 quad edges; measured, not yet 0)
+    V, F = io.read_mesh(data_dir / name)
+    Vq, Q, report = quadrangulate(V, F, target_faces=quads)
+    assert report.flipped_after <= flips
+    assert report.extraction.complete and report.min_scaled_jacobian > 0
+    assert_valid(Vq, Q, topology.euler_characteristic(F))
+
+
+def test_fandisk_with_sharp_angle_is_closed_and_valid(data_dir):
+    # With sharp_angle the field follows fandisk's features; MIQ's feature iso-lines still fold
+    # (34 flips, test_quadrangulation_miq), so quadrangulate falls back to the field alignment
+    # alone (report.feature_edges == 0 today; 12% of the feature points within 0.05 quad edges
+    # of a quad edge, 16% without sharp_angle): the result is still closed and valid.
+    V, F = io.read_mesh(data_dir / "fandisk.obj")
+    Vq, Q, report = quadrangulate(V, F, target_faces=3000, sharp_angle=40)
+    assert report.flipped_after == 0 and report.extraction.complete
+    assert_valid(Vq, Q, 2)
+    assert report.miq_attempts > len(MERGE_SCHEDULE)  # the feature-constrained attempts ran first
+
 
 def test_sphere_is_closed_and_valid():
     V, F = datasets.icosphere(3)

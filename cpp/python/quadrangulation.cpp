@@ -104,7 +104,7 @@ void bind_quadrangulation(py::module_& m) {
 
   m.def("miq", [](const py::object& V, const py::object& F, const py::object& theta, double target_edge_length,
                   bool round_singularities, bool round_translations, const py::object& repair_iterations,
-                  double stiffening, const py::object& callback) {
+                  double stiffening, double sharp_angle, const py::object& callback) {
     const MeshArguments mesh(V, F);
     const Eigen::VectorXd angles = as_angles(theta);
     MiqOptions options;
@@ -113,6 +113,7 @@ void bind_quadrangulation(py::module_& m) {
     options.round_translations = round_translations;
     options.repair_iterations = integer_argument<int>(repair_iterations, "repair_iterations", 0, 1000);
     options.stiffening = stiffening;
+    options.sharp_angle_degrees = sharp_angle;
     const Progress progress = make_progress(callback);
     MiqResult result = without_gil([&] { return miq(mesh.V(), mesh.F(), angles, options, progress); });
     py::dict out;
@@ -122,11 +123,12 @@ void bind_quadrangulation(py::module_& m) {
     out["integer_variables"] = result.integer_variables;
     out["rounding_residual"] = result.rounding_residual;
     out["repair_rounds"] = result.repair_rounds;
+    out["feature_edges"] = result.feature_edges;
     out["cut"] = cut_dict(std::move(result.cut));
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("target_edge_length") = 0.0,
      py::arg("round_singularities") = true, py::arg("round_translations") = true, py::arg("repair_iterations") = 10,
-     py::arg("stiffening") = 5.0, py::arg("progress") = py::none(),
+     py::arg("stiffening") = 5.0, py::arg("sharp_angle") = 0.0, py::arg("progress") = py::none(),
      "Mixed-integer quadrangulation parametrization (§5.2.2 step 3); see meshsmith.quadrangulation.miq.");
 }
 

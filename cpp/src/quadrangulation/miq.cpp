@@ -19,10 +19,12 @@
 //    replaced by the identity, so every re-solve reuses the symbolic analysis), and triangles
 //    that come out flipped are stiffened and the map re-solved, a few rounds (a round with more
 //    flips is undone and the factor softened; stopping after three without fewer flips). The
-//    flips this leaves (7 of 69,666 on pmp-bunny at 3,000 quads)
-//    sit at valence-5 cones whose fan has an obtuse triangle holding ~160° of the cone's 450° in
-//    the continuous map, folded when the rounding moves the cone; moving the integers those
-//    vertices depend on by ±1 (a re-solve each) was tried and removed none of them.
+//    flips this leaves (7 of 69,666 on pmp-bunny at 3,000 quads, 7 on rocker-arm) sit at cones
+//    0.2–0.3 quad edges from another cone, which the rounding puts on the same or the next
+//    integer point; stiffening (×2 to ×20, 30 rounds), moving the integers those vertices depend
+//    on by ±1 and splitting the cones' obtuse triangles removed none of them; cancelling or
+//    separating such pairs in the field does (quadrangulation.merge_singularities, applied by
+//    quadrangulate: 0 flips on the six shared meshes at 3,000 quads).
 #include <meshsmith/quadrangulation/miq.h>
 
 #include "field_geometry.h"
@@ -275,6 +277,73 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   if (options.round_translations) {
     for (Eigen::Index k = 2 * nc; k < n_variables; ++k) integer[k] = 1;
   }
+  // Feature edges: on each side, the coordinate across the edge is constant along it and an
+  // integer (the edge lies on an integer iso-line), where the combed cross follows the edge to
+  // within 10° (the field is hard-constrained to feature edges; a face with two features at an
+  // angle follows only one of them).
+  struct FeatureRow {
+    int a, b;  // variables x_a = x_b, both integer
+    Eigen::Index edge;
+  };
+  std::vector<FeatureRow> feature_rows;
+  std::vector<char> held_on_line(n_variables, 0);
+  if (!std::isfinite(options.sharp_angle_degrees)) throw InputError("miq: sharp_angle is not finite");
+  if (options.sharp_angle_degrees > 0) {
+    const double cos_sharp = std::cos(options.sharp_angle_degrees * detail::kPi / 180.0);
+    const double aligned = std::cos(10.0 * detail::kPi / 180.0);
+    for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+      const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+      if (g < 0 || mesh.normal.row(f).dot(mesh.normal.row(g)) >= cos_sharp) continue;
+      const int i = incidence.edges(e, 0), j = incidence.edges(e, 1);
+      const Eigen::Vector3d d = (mesh.V.row(j) - mesh.V.row(i)).normalized();
+      for (const int face : {f, g}) {
+        const double along_u = std::abs(d.dot(target_u.row(face)) / s);
+        const double along_v = std::abs(d.dot(target_v.row(face)) / s);
+        const int coordinate = along_u > aligned ? 1 : along_v > aligned ? 0 : -1;  // the constant one
+        if (coordinate < 0) continue;
+        int a = -1, b = -1;
+        for (int c = 0; c < 3; ++c) {
+          if (F(face, c) == i) a = Fc(face, c);
+          if (F(face, c) == j) b = Fc(face, c);
+        }
+        feature_rows.push_back({2 * a + coordinate, 2 * b + coordinate, e});
+        held_on_line[2 * a + coordinate] = held_on_line[2 * b + coordinate] = 1;
+      }
+    }
+    // A triangle whose three corners are all held on iso-lines of one coordinate collapses to a
+    // segment (a curved feature polyline with an "ear" triangle on it): its corner opposite the
+    // longest side (the polyline's middle vertex) is released from that coordinate's line, so
+    // the feature runs straight past it in (u, v), off it by a fraction of a triangle.
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (Eigen::Index f = 0; f < m; ++f) {
+        for (int coordinate = 0; coordinate < 2; ++coordinate) {
+          if (!held_on_line[2 * Fc(f, 0) + coordinate] || !held_on_line[2 * Fc(f, 1) + coordinate] ||
+              !held_on_line[2 * Fc(f, 2) + coordinate]) {
+            continue;
+          }
+          int middle = 0;
+          double longest = -1;
+          for (int c = 0; c < 3; ++c) {
+            const double side = (mesh.V.row(F(f, (c + 1) % 3)) - mesh.V.row(F(f, (c + 2) % 3))).norm();
+            if (side > longest) longest = side, middle = c;
+          }
+          held_on_line[2 * Fc(f, middle) + coordinate] = 0;
+          changed = true;
+        }
+      }
+    }
+    std::vector<FeatureRow> kept;
+    std::vector<char> edge_kept(incidence.n_edges(), 0);
+    for (const FeatureRow& row : feature_rows) {
+      if (!held_on_line[row.a] || !held_on_line[row.b]) continue;
+      kept.push_back(row);
+      integer[row.a] = integer[row.b] = 1;
+      result.feature_edges += !edge_kept[row.edge];
+      edge_kept[row.edge] = 1;
+    }
+    feature_rows = std::move(kept);
+  }
   Eliminator eliminator(n_variables, integer);
   const int gauge = result.cut.singularities.vertices.empty() ? 0 : result.cut.singularities.vertices.front();
   eliminator.hold(2 * gauge, 0.0);
@@ -302,6 +371,7 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
       }
     }
   }
+  for (const FeatureRow& row : feature_rows) eliminator.add_row({{row.a, 1.0}, {row.b, -1.0}}, 0.0);
   progress.report(0.1, "miq: system");
   // x = Z y + c over the free unknowns y.
   std::vector<int> free_index(n_variables, -1), free_variables;

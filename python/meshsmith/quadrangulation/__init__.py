@@ -8,7 +8,7 @@ raises :class:`meshsmith.InputError`.
 Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``,
 ``dual_loops`` (§5.3: dual-loop quad layouts).
 """
-from .cross_field import CrossField, Singularities, cross_field, field_angles, singularities
+from .cross_field import CrossField, Singularities, cross_field, field_angles, merge_singularities, singularities
 from .cut_graph import FieldCut, cut_graph
 from .dual_loops import DualLoopLayout, DualLoopReport, dual_loop_layout
 from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
@@ -16,7 +16,7 @@ from .miq import MiqResult, miq
 from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
 from .quality import QuadQuality, quad_quality
 
-__all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldCut",
+__all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "merge_singularities", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
            "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate",
            "DualLoopLayout", "DualLoopReport", "dual_loop_layout"]

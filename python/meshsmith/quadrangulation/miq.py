@@ -29,7 +29,8 @@ class MiqResult(Unpackable):
     :class:`FieldCut` the map follows (seams, singularities, combed field, seam jumps);
     integer_variables: seam translations and singular coordinates rounded; rounding_residual:
     the largest distance to an integer a variable had when it was rounded; repair_rounds:
-    stiffening rounds run; target_edge_length: the quad edge length used, in input units.
+    stiffening rounds run; target_edge_length: the quad edge length used, in input units;
+    feature_edges: feature edges (``sharp_angle``) held on an integer iso-line.
     """
 
     unpacks = ("UV", "flipped_before", "flipped_after")
@@ -41,12 +42,14 @@ class MiqResult(Unpackable):
     rounding_residual: float
     repair_rounds: int
     target_edge_length: float
+    feature_edges: int
 
 
 @_arguments.real_options
 def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: float | None = None,
         target_quads: int | None = None, round_singularities: bool = True, round_translations: bool = True,
-        repair_iterations: int = 10, stiffening: float = 5.0, progress: ProgressCallback = None) -> MiqResult:
+        repair_iterations: int = 10, stiffening: float = 5.0, sharp_angle: float | None = None,
+        progress: ProgressCallback = None) -> MiqResult:
     """A seamless integer-grid parametrization of (V, F) following a cross field (MIQ, §5.2.2
     step 3; Bommes, Zimmer & Kobbelt 2009).
 
@@ -57,6 +60,11 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
     integers, rounded greedily (closest to an integer first, each rounding re-solving the rest
     exactly from one CHOLMOD factorization). Triangles left flipped are stiffened and the map
     re-solved (``repair_iterations`` rounds, weight × ``stiffening``).
+    sharp_angle: None, or degrees: interior edges whose dihedral angle exceeds it are features
+    (as in :func:`cross_field`, whose field should follow them: pass it the same sharp_angle);
+    where the combed cross follows a feature edge to within 10°, the coordinate across it is
+    constant along it and an integer on both sides (MIQ's feature iso-lines), so the feature
+    becomes a chain of quad edges.
 
     V: (n, 3) float array, F: (m, 3) integer array; field: a :class:`CrossField`, (m,) angles or
     (m, 3) directions. target_edge_length (input units) or target_quads (≈ surface area /
@@ -71,22 +79,34 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
         raise InputError("miq: give target_edge_length or target_quads, not both")
     theta = field_angles(V, F, field)
     mesh = on_referenced_vertices(V, F)
-    P = np.asarray(mesh.V, dtype=np.float64)
-    faces = np.asarray(mesh.F, dtype=np.int64)
-    if target_edge_length is not None:
-        length = float(target_edge_length)
-        if not (np.isfinite(length) and length > 0):
-            raise InputError(f"miq: target_edge_length must be a finite number > 0, got {target_edge_length}")
-    elif target_quads is not None:
-        quads = _arguments.integer(target_quads, "target_quads", 1, 2 ** 40)
-        area = 0.5 * np.linalg.norm(np.cross(P[faces[:, 1]] - P[faces[:, 0]], P[faces[:, 2]] - P[faces[:, 0]]), axis=1).sum()
-        length = float(np.sqrt(area / quads))
-    else:
-        length = float(2 * np.linalg.norm(P[faces] - P[np.roll(faces, -1, axis=1)], axis=2).mean())
+    length = grid_length(mesh.V, mesh.F, target_edge_length, target_quads, "miq")
+    angle = 0.0
+    if sharp_angle is not None:
+        angle = float(sharp_angle)
+        if not 0 < angle < 180:
+            raise InputError(f"miq: sharp_angle must be in (0, 180) degrees, got {sharp_angle}")
     out = _core.miq(mesh.V, mesh.F, theta, target_edge_length=length, round_singularities=round_singularities,
                     round_translations=round_translations, repair_iterations=repair_iterations,
-                    stiffening=stiffening, progress=progress)
+                    stiffening=stiffening, sharp_angle=angle, progress=progress)
     return MiqResult(UV=out["uv"], flipped_before=int(out["flipped_before"]), flipped_after=int(out["flipped_after"]),
                      cut=field_cut(out["cut"], mesh, V), integer_variables=int(out["integer_variables"]),
                      rounding_residual=float(out["rounding_residual"]), repair_rounds=int(out["repair_rounds"]),
-                     target_edge_length=length)
+                     target_edge_length=length, feature_edges=int(out["feature_edges"]))
+
+
+def grid_length(V: ArrayLike, F: ArrayLike, target_edge_length: float | None, target_quads: int | None,
+                function: str) -> float:
+    """The quad edge length in input units: target_edge_length (checked > 0), else
+    √(surface area / target_quads), else twice the mean length of the faces' sides."""
+    P = np.asarray(V, dtype=np.float64)
+    faces = np.asarray(F, dtype=np.int64)
+    if target_edge_length is not None:
+        length = float(target_edge_length)
+        if not (np.isfinite(length) and length > 0):
+            raise InputError(f"{function}: target_edge_length must be a finite number > 0, got {target_edge_length}")
+        return length
+    if target_quads is not None:
+        quads = _arguments.integer(target_quads, "target_quads", 1, 2 ** 40)
+        area = 0.5 * np.linalg.norm(np.cross(P[faces[:, 1]] - P[faces[:, 0]], P[faces[:, 2]] - P[faces[:, 0]]), axis=1).sum()
+        return float(np.sqrt(area / quads))
+    return float(2 * np.linalg.norm(P[faces] - P[np.roll(faces, -1, axis=1)], axis=2).mean())

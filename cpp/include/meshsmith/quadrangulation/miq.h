@@ -19,6 +19,11 @@ struct MiqOptions {
   int repair_iterations = 10;       ///< rounds of stiffening flipped triangles and re-solving at most
                                     ///< (it stops after three rounds without fewer flips)
   double stiffening = 5.0;          ///< factor on the weight of a flipped triangle (and its neighbours) per round
+  /// Interior edges whose dihedral angle exceeds this many degrees are features: where the
+  /// combed cross follows such an edge (within 10°, as a field made with the same sharp_angle
+  /// does), the coordinate across it is held constant along it and integer on both sides, so
+  /// the edge lies on an integer iso-line and becomes a quad edge. ≤ 0: no features.
+  double sharp_angle_degrees = 0.0;
 };
 
 using CornerUV = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
@@ -31,6 +36,7 @@ struct MiqResult {
   Eigen::Index integer_variables = 0;  ///< seam translations and singular coordinates rounded
   double rounding_residual = 0.0;     ///< max |y − round(y)| over the integer variables when each was rounded
   int repair_rounds = 0;              ///< stiffening rounds run
+  Eigen::Index feature_edges = 0;     ///< feature edges held on an integer iso-line (sharp_angle_degrees)
 };
 
 /// A seamless integer-grid map of (V, F) following the cross field `theta` (#F angles, as
