@@ -235,6 +235,8 @@ VALID = {
     "quadrangulation.miq": {"field": np.linspace(0.0, 1.0, len(SPHERE_F)), "target_quads": 50},
     "quadrangulation.extract_quads": {"UV": 4 * SPHERE_V[SPHERE_F][:, :, :2]},
     "quadrangulation.quadrangulate": {"target_faces": 40},
+    "quadrangulation.morse_smale_complex": {"f": SPHERE_V[:, 2] + 0.1 * SPHERE_V[:, 0]},
+    "quadrangulation.spectral_quadrangulate": {"target_faces": 40},
     "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
                                      "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
     "reconstruction.marching_cubes": {"values": BALL_VALUES},

@@ -53,4 +53,5 @@ PYBIND11_MODULE(_core, m) {
   auto quadrangulation = m.def_submodule("quadrangulation");
   meshsmith::python::bind_quadrangulation(quadrangulation);
   meshsmith::python::bind_quadrangulation_extraction(quadrangulation);
+  meshsmith::python::bind_quadrangulation_spectral(quadrangulation);
 }

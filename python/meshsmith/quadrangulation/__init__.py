@@ -5,7 +5,8 @@ extraction that reads it, and quad-mesh quality.
 Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3), quads ``Q`` int64 (k, 4). Bad input
 raises :class:`meshsmith.InputError`.
 
-Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``.
+Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``,
+``spectral`` (§5.2.1: Morse–Smale quadrangulation of a Laplacian eigenfunction).
 """
 from .cross_field import CrossField, Singularities, cross_field, field_angles, singularities
 from .cut_graph import FieldCut, cut_graph
@@ -13,7 +14,11 @@ from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
 from .miq import MiqResult, miq
 from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
 from .quality import QuadQuality, quad_quality
+from .spectral import (MorseSmaleComplex, SpectralQuadrangulation, SpectralQuadrangulationReport, morse_smale_complex,
+                       spectral_quadrangulate)
 
 __all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
-           "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate"]
+           "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate",
+           "MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulation", "SpectralQuadrangulationReport",
+           "spectral_quadrangulate"]
