@@ -120,7 +120,7 @@ void build_cells(const Surface& S, MorseSmaleComplex& C);
 
 /// Traces the complex's lines; `stuck` says a line found no admissible step (refinement may
 /// help). The cells follow (build_cells) unless the lines are incomplete.
-MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuck) {
+MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuck, int order = 0) {
   const Eigen::VectorXd& f = S.f;
   const int n = static_cast<int>(S.V.rows());
   MorseSmaleComplex C;
@@ -249,8 +249,16 @@ MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuc
       if (y >= 0 && C.vertex_type[y] == static_cast<int>(CriticalType::regular)) reserved[y] = s;
   }
 
-  for (int s = 0; s < n && C.problem.empty(); ++s) {
-    if (!is(s, CriticalType::saddle)) continue;
+  // The saddles in the order their lines are traced (later lines go beside earlier ones): by
+  // index (order 0), by f descending (1), ascending (2), by index descending (3).
+  std::vector<int> saddles;
+  for (int s = 0; s < n; ++s)
+    if (is(s, CriticalType::saddle)) saddles.push_back(s);
+  if (order == 1) std::sort(saddles.begin(), saddles.end(), [&](int a, int b) { return above(f, a, b); });
+  if (order == 2) std::sort(saddles.begin(), saddles.end(), [&](int a, int b) { return above(f, b, a); });
+  if (order == 3) std::reverse(saddles.begin(), saddles.end());
+  for (const int s : saddles) {
+    if (!C.problem.empty()) break;
     for (const auto& [first, up] : saddle_starts[s]) {
       if (!C.problem.empty()) break;
       const int id = static_cast<int>(C.lines.size());
@@ -822,13 +830,19 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
     Surface S = star_split(Surface{V, FaceMatrix(F), eigen.vectors.col(index)});
     for (int level = 0;; ++level) {
       const Rings surface_rings = one_rings(S.F, static_cast<int>(S.V.rows()));
-      bool stuck = false;
-      MorseSmaleComplex C = trace_complex(S, surface_rings, stuck);
+      bool stuck = false, any_stuck = false;
+      MorseSmaleComplex C;
       Surface T;
-      if (C.complete()) {
-        T = S;
-        if (split_chords(T, C) > 0) build_cells(T, C);
+      for (int order = 0; order < 4; ++order) {
+        C = trace_complex(S, surface_rings, stuck, order);
+        any_stuck = any_stuck || stuck;
+        if (C.complete()) {
+          T = S;
+          if (split_chords(T, C) > 0) build_cells(T, C);
+        }
+        if (C.complete()) break;
       }
+      stuck = any_stuck;
       if (C.complete()) {
         SpectralQuadrangulation out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
         out.V = normalized.frame.vertices_to_input(out.V, "spectral_quadrangulate: vertex");
