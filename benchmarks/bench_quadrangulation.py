@@ -15,6 +15,9 @@ output; QuadriFlow: a min-cost-flow integer field), so their ratios compare tool
 
 Printed per tool: quads, non-quad faces, irregular (valence ≠ 4) interior vertices, mean
 |angle − 90°|, minimum scaled Jacobian, Hausdorff distance to the input ÷ its bounding-box diagonal, whether it is a closed manifold with the input's χ.
+Spectral cases (§5.2.1, spectral_quadrangulate) on the same inputs and targets: meshsmith spectral
+against meshsmith's MIQ pipeline and Instant Meshes, same figures; checks: pure quads, manifold,
+oriented, χ kept (0 violations), quad count within 50% of the target.
 Result checks (tolerances): meshsmith's mesh is pure quads, manifold and oriented (0 violations);
 on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 40% of the
 target (MIQ sets the grid size from the area, so the count follows the map's scale); no MIQ flip
@@ -82,6 +85,14 @@ def describe(V, Q, euler, input_mesh):
                 valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
 
 
+def print_figures(figures, euler):
+    """One row of describe()'s figures per tool."""
+    print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
+    for tool, f in figures.items():
+        print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} "
+              f"{f['jacobian']:7.3f} {f['hausdorff']:9.4f}  {f['valid']}")
+
+
 def main():
     im = optional("pynanoinstantmeshes")
     qf = optional("pyQuadriFlow.pyQuadriFlow")
@@ -107,10 +118,7 @@ def main():
         for peer in ("Instant Meshes", "QuadriFlow"):
             if peer in bench.outputs:
                 figures[peer] = describe(*bench.output(peer), euler, (V, F))
-        print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
-        for tool, f in figures.items():
-            print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} "
-                  f"{f['jacobian']:7.3f} {f['hausdorff']:9.4f}  {f['valid']}")
+        print_figures(figures, euler)
         report = result.report
         print(f"  meshsmith: {len(report.singular_vertices)} singularities (index sum {int(report.singular_indices.sum())}), "
               f"MIQ flips {report.flipped_before} → {report.flipped_after} (merge distance "
@@ -127,6 +135,48 @@ def main():
         if name == "torus":
             bench.check("torus: irregular vertices + (χ ≠ 0)",
                         figures["meshsmith"]["irregular"] + (not report.extraction.complete), 0)
+    spectral_cases(im, cases[:1])
+
+
+def spectral_cases(im, cases):
+    """Spectral Morse–Smale quadrangulation (§5.2.1) against the MIQ pipeline and Instant Meshes at
+    the same quad count ("meshsmith" is spectral_quadrangulate here): the torus above and bumpy-cube.obj (39,936 faces, 2,000 quads); on spot.obj
+    spectral_quadrangulate finds no complete complex yet, which is printed. Checks: pure quads,
+    manifold, oriented, χ kept (0 violations); quad count within 50% of the target."""
+    from meshsmith import SolverError
+    from meshsmith.quadrangulation import spectral_quadrangulate
+    spot = shared_mesh("spot.obj")
+    if spot is not None:
+        try:
+            spectral_quadrangulate(*spot, target_faces=2000)
+        except SolverError as error:
+            print(f"spectral on spot.obj: {error}")
+    bumpy = shared_mesh("bumpy-cube.obj")
+    if bumpy is not None:
+        cases = cases + [("bumpy-cube.obj", bumpy, 2000)]
+    for name, (V, F), target in cases:
+        V, F = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+        euler = topology.euler_characteristic(F)
+        bench = Benchmark("quadrangulation", f"spectral quadrangulation of {name} ({len(F):,} F) to {target:,} quads",
+                          repeats=3)
+        bench.time("meshsmith", lambda: spectral_quadrangulate(V, F, target_faces=target))
+        bench.time("meshsmith miq", lambda: quadrangulate(V, F, target_faces=target))
+        if im:
+            bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
+        bench.report()
+        result = bench.output("meshsmith")
+        figures = {"spectral": describe(result.V, result.Q, euler, (V, F)),
+                   "miq": describe(bench.output("meshsmith miq").V, bench.output("meshsmith miq").Q, euler, (V, F))}
+        if "Instant Meshes" in bench.outputs:
+            figures["Instant Meshes"] = describe(*bench.output("Instant Meshes"), euler, (V, F))
+        print_figures(figures, euler)
+        report = result.report
+        print(f"  spectral: eigenvector {report.eigenvector}, {report.patches} cells, {report.maxima} max / "
+              f"{report.saddles} saddles / {report.minima} min, {report.refinements} refinement(s), "
+              f"{report.inverted_quads} inverted quads")
+        bench.check("spectral: non-quads + invalid (manifold, oriented, χ)",
+                    figures["spectral"]["non_quads"] + (not figures["spectral"]["valid"]), 0)
+        bench.check("spectral: |quads − target| / target", abs(len(result.Q) - target) / target, 0.5)
 
     dual_loop_cases()
 

@@ -250,6 +250,15 @@ RESULTS = {
     "quadrangulation.quadrangulate report": (
         lambda tmp: quadrangulation.quadrangulate(*datasets.torus(n_major=24, n_minor=10), target_faces=60).report,
         [field.name for field in dataclasses.fields(quadrangulation.QuadrangulationReport)]),
+    "quadrangulation.morse_smale_complex": (
+        lambda tmp: quadrangulation.morse_smale_complex(*datasets.icosphere(2), datasets.icosphere(2)[0][:, 2]),
+        [field.name for field in dataclasses.fields(quadrangulation.MorseSmaleComplex)]),
+    "quadrangulation.spectral_quadrangulate": (
+        lambda tmp: quadrangulation.spectral_quadrangulate(*datasets.icosphere(3), target_faces=200),
+        ["V", "Q", "report"]),
+    "quadrangulation.spectral_quadrangulate report": (
+        lambda tmp: quadrangulation.spectral_quadrangulate(*datasets.icosphere(3), target_faces=200).report,
+        [field.name for field in dataclasses.fields(quadrangulation.SpectralQuadrangulationReport)]),
     "quadrangulation.quad_quality": (
         lambda tmp: quadrangulation.quad_quality(*quadrangulation.extract_quads(*square_grid_map())),
         [field.name for field in dataclasses.fields(quadrangulation.QuadQuality)]),

@@ -240,6 +240,8 @@ VALID = {
     "quadrangulation.dual_loop_layout": {"field": np.linspace(0.0, 1.0, len(SPHERE_F)), "spacing": 0.5, "max_loops": 8,
                                          "max_failed_seeds": 20},
     "quadrangulation.merge_singularities": {"field": meshsmith.quadrangulation.cross_field(SPHERE_V, SPHERE_F), "distance": 0.8},
+    "quadrangulation.morse_smale_complex": {"f": SPHERE_V[:, 2] + 0.1 * SPHERE_V[:, 0]},
+    "quadrangulation.spectral_quadrangulate": {"target_faces": 40},
     "quadrangulation.quad_quality": {"V": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], float),
                                      "Q": np.array([[0, 1, 2, 3], [1, 4, 5, 2]])},
     "reconstruction.marching_cubes": {"values": BALL_VALUES},

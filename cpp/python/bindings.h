@@ -34,4 +34,5 @@ void bind_quadrangulation_extraction(pybind11::module_& m);  // module.cpp calls
 void bind_quadrangulation_dual_loops(pybind11::module_& m);  // on "quadrangulation"
 void bind_reconstruction(pybind11::module_& m);
 void bind_reconstruction_graph_cut(pybind11::module_& m);  // on "reconstruction"
+void bind_quadrangulation_spectral(pybind11::module_& m);  // on "quadrangulation"
 }  // namespace meshsmith::python

@@ -54,4 +54,5 @@ PYBIND11_MODULE(_core, m) {
   meshsmith::python::bind_quadrangulation(quadrangulation);
   meshsmith::python::bind_quadrangulation_extraction(quadrangulation);
   meshsmith::python::bind_quadrangulation_dual_loops(quadrangulation);
+  meshsmith::python::bind_quadrangulation_spectral(quadrangulation);
 }

@@ -11,7 +11,8 @@ from .. import io, quadrangulation, render
 from .common import ProgressBar, UsageError, add_command, check_output, integer, number, read_mesh
 
 #: --method values.
-QUADRANGULATION_METHODS = {"miq": "cross field, mixed-integer parametrization (MIQ), quad extraction"}
+QUADRANGULATION_METHODS = {"miq": "cross field, mixed-integer parametrization (MIQ), quad extraction",
+                           "spectral": "Morse-Smale complex of a Laplacian eigenfunction, harmonic maps of its cells (§5.2.1)"}
 
 
 def command_quadrangulate(args: argparse.Namespace) -> int:
@@ -21,6 +22,8 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
     if args.faces is not None and args.edge_length is not None:
         raise UsageError("--faces and --edge-length are exclusive: give one")
     V, F = read_mesh(args.input)
+    if args.method == "spectral":
+        return _spectral(args, V, F)
     start = time.perf_counter()
     result = quadrangulation.quadrangulate(V, F, target_faces=args.faces, target_edge_length=args.edge_length,
                                            align=args.align, sharp_angle=args.sharp_angle, progress=ProgressBar())
@@ -53,6 +56,31 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _spectral(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
+    """--method spectral: spectral_quadrangulate, its cells and quality."""
+    from .. import geometry
+    faces = args.faces if args.edge_length is None else max(1, round(geometry.surface_area(V, F) / args.edge_length ** 2))
+    start = time.perf_counter()
+    result = quadrangulation.spectral_quadrangulate(V, F, target_faces=faces, progress=ProgressBar())
+    seconds = time.perf_counter() - start
+    io.write_mesh(args.output, result.V, result.Q)
+    report = result.report
+    if args.picture:
+        render.render(result.V, result.Q, args.picture, size=(480, 420),
+                      title=f"{report.quads} quads in {report.patches} Morse-Smale cells")
+    print(f"wrote {args.output}: {len(result.V)} vertices, {report.quads} quads")
+    for key, value in [
+            ("Morse-Smale cells", f"{report.patches} (eigenvector {report.eigenvector}, "
+                                  f"{report.refinements} refinement(s))"),
+            ("maxima / saddles / minima", f"{report.maxima} / {report.saddles} / {report.minima}"),
+            ("irregular vertices", str(report.irregular_vertices)),
+            ("|angle - 90| mean / max", f"{report.mean_angle_deviation:.2f} / {report.max_angle_deviation:.2f} degrees"),
+            ("min scaled Jacobian", f"{report.min_scaled_jacobian:.3f} ({report.inverted_quads} inverted)"),
+            ("time", f"{seconds:.2f} s")]:
+        print(f"  {key:26s} {value}")
+    return 0
+
+
 def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add this chapter's commands to the `meshsmith` subparsers."""
     parser = add_command(
@@ -61,7 +89,8 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
                                                              QUADRANGULATION_METHODS.items())
         + ". Prints the quads, singularities, angle quality and what was left out.",
         examples=["meshsmith quadrangulate mesh.off -o quads.obj --faces 400",
-                  "meshsmith quadrangulate mesh.off -o quads.off --edge-length 0.15 --picture quads.png"])
+                  "meshsmith quadrangulate mesh.off -o quads.off --edge-length 0.15 --picture quads.png",
+                  "meshsmith quadrangulate mesh.off -o quads.obj --faces 300 --method spectral"])
     parser.add_argument("input", help="triangle mesh file (.obj, .ply, .off, .stl): clean, connected, manifold")
     parser.add_argument("-o", "--output", required=True, help="output quad mesh (.obj, .off, .ply)")
     parser.add_argument("--faces", type=integer(1, 2 ** 24), metavar="N", help="about N quads")

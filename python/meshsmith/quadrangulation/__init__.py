@@ -6,7 +6,8 @@ Vertices ``V`` are float64 (n, 3), faces ``F`` integer (m, 3), quads ``Q`` int64
 raises :class:`meshsmith.InputError`.
 
 Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``extraction``, ``quality``, ``pipeline``,
-``dual_loops`` (§5.3: dual-loop quad layouts).
+``dual_loops`` (§5.3: dual-loop quad layouts),
+``spectral`` (§5.2.1: Morse–Smale quadrangulation of a Laplacian eigenfunction).
 """
 from .cross_field import CrossField, Singularities, cross_field, field_angles, merge_singularities, singularities
 from .cut_graph import FieldCut, cut_graph
@@ -15,8 +16,12 @@ from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
 from .miq import MiqResult, miq
 from .pipeline import Quadrangulation, QuadrangulationReport, quadrangulate
 from .quality import QuadQuality, quad_quality
+from .spectral import (MorseSmaleComplex, SpectralQuadrangulation, SpectralQuadrangulationReport, morse_smale_complex,
+                       spectral_quadrangulate)
 
 __all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "merge_singularities", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
            "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate",
-           "DualLoopLayout", "DualLoopReport", "dual_loop_layout"]
+           "DualLoopLayout", "DualLoopReport", "dual_loop_layout",
+           "MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulation", "SpectralQuadrangulationReport",
+           "spectral_quadrangulate"]

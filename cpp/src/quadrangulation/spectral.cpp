@@ -1,0 +1,871 @@
+// Spectral Morse–Smale quadrangulation (§5.2.1) in four steps.
+//
+// 1. The eigenfunction: the lowest eigenpairs of −L u = λ M u (geometry::laplacian_eigenpairs);
+//    the eigenvector's index sets the frequency, hence the number of critical points and cells.
+// 2. The complex: vertices classified by the wedges of their one-ring (ties broken by index);
+//    from every saddle one line per wedge, walked along edges by steepest ascent or descent to an
+//    extremum. Lines are kept vertex-disjoint (but at their ends) and chordless, which is what
+//    makes every cell an embedded disk whose boundary maps onto the square's sides without a
+//    degenerate triangle. A line with no admissible step leaves the complex incomplete: the mesh is
+//    then split 1-to-4 (the function interpolated linearly, so the same PL function and the same
+//    critical points) and the complex traced again.
+// 3. The maps: every cell, cut out as its own disk, is mapped by a mean-value harmonic map
+//    (parametrization::harmonic) onto the unit square, its corners on the square's corners and
+//    its sides spaced by arc length.
+// 4. The grids: sides are chained (opposite sides of a cell; the two cells of a line share it) by
+//    union–find, each chain gets one count, so the n×m grids of neighbouring cells meet node for
+//    node; side nodes are placed once per line (by arc length, the same as the maps' boundary), the
+//    interior nodes are the maps' preimages of the grid points.
+#include <meshsmith/quadrangulation/spectral.h>
+
+#include <meshsmith/core/errors.h>
+#include <meshsmith/core/normalization.h>
+#include <meshsmith/geometry/spectral.h>
+#include <meshsmith/parametrization/harmonic.h>
+#include <meshsmith/parametrization/mesh_checks.h>
+#include <meshsmith/topology/edge_incidence.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace meshsmith::quadrangulation {
+
+namespace {
+
+/// The mesh a complex is traced on: the input, or a 1-to-4 refinement of it.
+struct Surface {
+  VertexMatrix V;
+  FaceMatrix F;
+  Eigen::VectorXd f;
+};
+
+/// f[a] above f[b], ties broken by index (simulation of simplicity).
+inline bool above(const Eigen::VectorXd& f, int a, int b) { return f[a] > f[b] || (f[a] == f[b] && a > b); }
+
+/// Counter-clockwise one-rings of a closed oriented manifold, in CSR form.
+struct Rings {
+  std::vector<int> offset, ring;
+  int size(int v) const { return offset[v + 1] - offset[v]; }
+  const int* begin(int v) const { return ring.data() + offset[v]; }
+};
+
+Rings one_rings(const FaceMatrix& F, int n) {
+  Rings rings;
+  rings.offset.assign(n + 1, 0);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++rings.offset[F(f, k) + 1];
+  std::partial_sum(rings.offset.begin(), rings.offset.end(), rings.offset.begin());
+  // At corner v of face (v, b, c), the ring goes from b to c (counter-clockwise around v).
+  std::vector<std::pair<int, int>> steps(rings.offset[n]);
+  std::vector<int> fill(rings.offset.begin(), rings.offset.end() - 1);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) steps[fill[F(f, k)]++] = {F(f, (k + 1) % 3), F(f, (k + 2) % 3)};
+  rings.ring.resize(steps.size());
+  for (int v = 0; v < n; ++v) {
+    const int first = rings.offset[v], count = rings.size(v);
+    int current = steps[first].first;
+    for (int k = 0; k < count; ++k) {
+      rings.ring[first + k] = current;
+      int next = -1;
+      for (int s = first; s < first + count; ++s)
+        if (steps[s].first == current) next = steps[s].second;
+      if (next < 0 || (k + 1 < count && next == rings.ring[first]))
+        throw InputError("vertex " + std::to_string(v) + " is not a closed manifold vertex (its faces do not form one fan)");
+      current = next;
+    }
+  }
+  return rings;
+}
+
+/// Critical points of f from the sign changes around each vertex.
+void classify(const Rings& rings, const Eigen::VectorXd& f, Eigen::VectorXi& type, Eigen::VectorXi& multiplicity) {
+  const int n = static_cast<int>(f.size());
+  type.setZero(n);
+  multiplicity.setZero(n);
+  for (int v = 0; v < n; ++v) {
+    const int* r = rings.begin(v);
+    const int d = rings.size(v);
+    int changes = 0, up = 0;
+    for (int k = 0; k < d; ++k) {
+      const bool a = above(f, r[k], v), b = above(f, r[(k + 1) % d], v);
+      changes += a != b;
+      up += a;
+    }
+    if (changes == 0) {
+      type[v] = static_cast<int>(up ? CriticalType::minimum : CriticalType::maximum);
+    } else if (changes > 2) {
+      type[v] = static_cast<int>(CriticalType::saddle);
+      multiplicity[v] = changes / 2 - 1;
+    }
+  }
+}
+
+using EdgeKey = std::uint64_t;
+inline EdgeKey edge_key(int a, int b) {
+  return (static_cast<EdgeKey>(std::min(a, b)) << 32) | static_cast<EdgeKey>(std::max(a, b));
+}
+
+void build_cells(const Surface& S, MorseSmaleComplex& C);
+
+/// Traces the complex's lines; `stuck` says a line found no admissible step (refinement may
+/// help). The cells follow (build_cells) unless the lines are incomplete.
+MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuck, int order = 0) {
+  const Eigen::VectorXd& f = S.f;
+  const int n = static_cast<int>(S.V.rows());
+  MorseSmaleComplex C;
+  classify(rings, f, C.vertex_type, C.saddle_multiplicity);
+  const auto is = [&](int v, CriticalType t) { return C.vertex_type[v] == static_cast<int>(t); };
+  for (int v = 0; v < n; ++v) {
+    C.maxima += is(v, CriticalType::maximum);
+    C.minima += is(v, CriticalType::minimum);
+    C.saddles += C.saddle_multiplicity[v];
+  }
+  C.face_patch.setConstant(S.F.rows(), -1);
+  stuck = false;
+
+  std::vector<int> owner(n, -1), reserved(n, -1);
+  // The admissible step from x of line `id` with the highest slope towards its extremum; an
+  // extremum is preferred (it ends the line); -1 when there is none.
+  const auto step = [&](int x, const int* candidates, int count, bool ascending, int id) {
+    const CriticalType target = ascending ? CriticalType::maximum : CriticalType::minimum;
+    int best = -1;
+    bool best_end = false;
+    double best_slope = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < count; ++k) {
+      const int y = candidates[k];
+      if (ascending ? !above(f, y, x) : !above(f, x, y)) continue;
+      if (is(y, CriticalType::saddle)) continue;
+      const bool end = is(y, target);
+      if (!end && (owner[y] >= 0 || reserved[y] >= 0)) continue;
+      const double slope = std::abs(f[y] - f[x]) / std::max((S.V.row(y) - S.V.row(x)).norm(), 1e-300);
+      if ((end && !best_end) || (end == best_end && slope > best_slope)) {
+        best = y;
+        best_end = end;
+        best_slope = slope;
+      }
+    }
+    return best;
+  };
+
+  // Dijkstra (by length) from x through vertices of no line, no saddle and no extremum but the
+  // one the steepest blocking line ends at (or any of the right kind); the path after x, or empty.
+  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+  std::vector<int> from(n, -1), touched;
+  std::function<std::vector<int>(int, bool, int, int, bool)> route_to = [&](int x, bool ascending, int id, int target,
+                                                                            bool keep_reserved) {
+    const CriticalType target_type = ascending ? CriticalType::maximum : CriticalType::minimum;
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    distance[x] = 0.0;
+    touched.assign(1, x);
+    heap.push({0.0, x});
+    int reached = -1;
+    while (!heap.empty()) {
+      const auto [d, v] = heap.top();
+      heap.pop();
+      if (d > distance[v]) continue;
+      if (v != x && is(v, target_type)) {
+        reached = v;
+        break;
+      }
+      for (int j = 0; j < rings.size(v); ++j) {
+        const int w = rings.begin(v)[j];
+        if (owner[w] >= 0 || (keep_reserved && reserved[w] >= 0) || is(w, CriticalType::saddle)) continue;
+        if (C.vertex_type[w] != static_cast<int>(CriticalType::regular) && !(is(w, target_type) && (target < 0 || w == target))) continue;
+        const double dw = d + (S.V.row(w) - S.V.row(v)).norm();
+        if (dw < distance[w]) {
+          if (distance[w] == std::numeric_limits<double>::infinity()) touched.push_back(w);
+          distance[w] = dw;
+          from[w] = v;
+          heap.push({dw, w});
+        }
+      }
+    }
+    if (reached < 0 && target >= 0) {
+      for (const int v : touched) distance[v] = std::numeric_limits<double>::infinity(), from[v] = -1;
+      return route_to(x, ascending, id, -1, keep_reserved);
+    }
+    std::vector<int> path;
+    for (int v = reached; v >= 0 && v != x; v = from[v]) path.push_back(v);
+    std::reverse(path.begin(), path.end());
+    for (const int v : touched) distance[v] = std::numeric_limits<double>::infinity(), from[v] = -1;
+    return path;
+  };
+  const auto route = [&](int x, bool ascending, int id) {
+    int target = -1;
+    double best_slope = -1.0;
+    for (int j = 0; j < rings.size(x); ++j) {
+      const int y = rings.begin(x)[j];
+      if (owner[y] < 0 || owner[y] == id || (ascending ? !above(f, y, x) : !above(f, x, y))) continue;
+      const double slope = std::abs(f[y] - f[x]) / std::max((S.V.row(y) - S.V.row(x)).norm(), 1e-300);
+      if (slope > best_slope) best_slope = slope, target = C.lines[owner[y]].back();
+    }
+    std::vector<int> path = route_to(x, ascending, id, target, true);
+    // Last resort: through other saddles' reserved first steps (they then pick none).
+    return path.empty() ? route_to(x, ascending, id, target, false) : path;
+  };
+  // Every saddle's first step into each wedge is reserved before any line is traced, so a line
+  // passing by cannot take a wedge's only vertex. reserved[v]: the saddle whose start v is.
+  const auto first_steps = [&](int s, std::vector<std::pair<int, bool>>& starts) {
+    const int* r = rings.begin(s);
+    const int d = rings.size(s);
+    int start = 0;
+    while (above(f, r[start], s) == above(f, r[(start + d - 1) % d], s)) ++start;
+    starts.clear();
+    for (int k = 0; k < d;) {
+      const bool up = above(f, r[(start + k) % d], s);
+      int best = -1;
+      double best_slope = -1.0;
+      for (; k < d && above(f, r[(start + k) % d], s) == up; ++k) {
+        const int y = r[(start + k) % d];
+        if (is(y, CriticalType::saddle) || reserved[y] >= 0) continue;
+        const double slope = std::abs(f[y] - f[s]) / std::max((S.V.row(y) - S.V.row(s)).norm(), 1e-300);
+        const bool end = is(y, up ? CriticalType::maximum : CriticalType::minimum);
+        if (end) {
+          if (best < 0 || !is(best, up ? CriticalType::maximum : CriticalType::minimum) || slope > best_slope) best = y, best_slope = slope;
+        } else if (best < 0 || (!is(best, up ? CriticalType::maximum : CriticalType::minimum) && slope > best_slope)) {
+          best = y, best_slope = slope;
+        }
+      }
+      starts.emplace_back(best, up);
+    }
+  };
+  std::vector<std::vector<std::pair<int, bool>>> saddle_starts(n);
+  for (int s = 0; s < n; ++s) {
+    if (!is(s, CriticalType::saddle)) continue;
+    first_steps(s, saddle_starts[s]);
+    for (const auto& [y, up] : saddle_starts[s])
+      if (y >= 0 && C.vertex_type[y] == static_cast<int>(CriticalType::regular)) reserved[y] = s;
+  }
+
+  // The saddles in the order their lines are traced (later lines go beside earlier ones): by
+  // index (order 0), by f descending (1), ascending (2), by index descending (3).
+  std::vector<int> saddles;
+  for (int s = 0; s < n; ++s)
+    if (is(s, CriticalType::saddle)) saddles.push_back(s);
+  if (order == 1) std::sort(saddles.begin(), saddles.end(), [&](int a, int b) { return above(f, a, b); });
+  if (order == 2) std::sort(saddles.begin(), saddles.end(), [&](int a, int b) { return above(f, b, a); });
+  if (order == 3) std::reverse(saddles.begin(), saddles.end());
+  for (const int s : saddles) {
+    if (!C.problem.empty()) break;
+    for (const auto& [first, up] : saddle_starts[s]) {
+      if (!C.problem.empty()) break;
+      const int id = static_cast<int>(C.lines.size());
+      std::vector<int> line{s};
+      int y = first >= 0 && owner[first] < 0 ? first : -1;
+      while (y >= 0) {
+        line.push_back(y);
+        if (is(y, up ? CriticalType::maximum : CriticalType::minimum)) break;
+        owner[y] = id;
+        y = step(y, rings.begin(y), rings.size(y), up, id);
+        if (y < 0) {
+          // Merging: every step up (down) is on another line, which PL gradient lines do in
+          // valleys and on ridges. Continue beside it instead: the shortest path through free
+          // vertices to the extremum that line ends at.
+          // From the line's end, or, when that is walled in, from earlier along it (backtracking).
+          std::vector<int> detour = route(line.back(), up, id);
+          while (detour.empty() && line.size() > 2) {
+            owner[line.back()] = -1;
+            line.pop_back();
+            detour = route(line.back(), up, id);
+          }
+          for (std::size_t k = 0; k + 1 < detour.size(); ++k) line.push_back(detour[k]), owner[detour[k]] = id;
+          if (!detour.empty()) line.push_back(detour.back());
+          ++C.detours;
+          break;
+        }
+      }
+      if (line.size() < 2 || !is(line.back(), up ? CriticalType::maximum : CriticalType::minimum)) {
+        stuck = true;
+        C.problem = std::string("the ") + (up ? "ascending" : "descending") + " line from saddle " +
+                    std::to_string(s) + " found no free step at vertex " + std::to_string(line.back());
+      }
+      C.lines.push_back(std::move(line));
+      C.line_ascending.push_back(up);
+    }
+  }
+  if (!C.problem.empty()) return C;
+
+  // Every extremum must end at least two lines, else it lies inside a cell or on a dangling line.
+  std::vector<int> ends(n, 0);
+  for (const auto& line : C.lines) ++ends[line.back()];
+  for (int v = 0; v < n; ++v) {
+    if ((is(v, CriticalType::maximum) || is(v, CriticalType::minimum)) && ends[v] < 2) {
+      C.problem = std::string(is(v, CriticalType::maximum) ? "maximum " : "minimum ") + std::to_string(v) +
+                  " ends " + std::to_string(ends[v]) + " line(s) (at least 2 make it a cell corner)";
+      return C;
+    }
+  }
+  build_cells(S, C);
+  return C;
+}
+
+/// The cells of complete lines: faces connected across edges that no line uses; each must be a
+/// disk bounded by four lines with max–saddle–min–saddle corners (C.problem says which is not).
+void build_cells(const Surface& S, MorseSmaleComplex& C) {
+  const int n = static_cast<int>(S.V.rows());
+  const auto is = [&](int v, CriticalType t) { return C.vertex_type[v] == static_cast<int>(t); };
+  C.problem.clear();
+  C.face_patch.setConstant(S.F.rows(), -1);
+  const topology::EdgeIncidence incidence = topology::edge_incidence(S.F, n);
+  std::unordered_map<EdgeKey, int> edge_of;
+  edge_of.reserve(incidence.n_edges() * 2);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e)
+    edge_of[edge_key(incidence.edges(e, 0), incidence.edges(e, 1))] = static_cast<int>(e);
+  std::vector<int> cut(incidence.n_edges(), -1);
+  for (std::size_t l = 0; l < C.lines.size(); ++l)
+    for (std::size_t k = 0; k + 1 < C.lines[l].size(); ++k)
+      cut[edge_of.at(edge_key(C.lines[l][k], C.lines[l][k + 1]))] = static_cast<int>(l);
+  const Eigen::Index m = S.F.rows();
+  int patches = 0;
+  std::vector<int> queue;
+  for (Eigen::Index seed = 0; seed < m; ++seed) {
+    if (C.face_patch[seed] >= 0) continue;
+    C.face_patch[seed] = patches;
+    queue.assign(1, static_cast<int>(seed));
+    while (!queue.empty()) {
+      const int face = queue.back();
+      queue.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const int e = incidence.side_edge[3 * face + k];
+        if (cut[e] >= 0) continue;
+        for (int j = incidence.edge_offsets[e]; j < incidence.edge_offsets[e + 1]; ++j) {
+          const int other = incidence.edge_sides[j] / 3;
+          if (C.face_patch[other] < 0) {
+            C.face_patch[other] = patches;
+            queue.push_back(other);
+          }
+        }
+      }
+    }
+    ++patches;
+  }
+  const auto fail = [&](std::string problem) {
+    C.problem = std::move(problem);
+    C.face_patch.setConstant(m, -1);
+    C.patch_corners.resize(0, 4);
+    C.patch_sides.resize(0, 4);
+  };
+  // Boundary sides of each cell (a side on a line: its face is on the left of a → b).
+  std::vector<std::vector<int>> boundary(patches);
+  std::vector<int> face_count(patches, 0);
+  for (Eigen::Index face = 0; face < m; ++face) ++face_count[C.face_patch[face]];
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    if (cut[e] < 0) continue;
+    const int a = incidence.edge_sides[incidence.edge_offsets[e]] / 3;
+    const int b = incidence.edge_sides[incidence.edge_offsets[e] + 1] / 3;
+    if (C.face_patch[a] == C.face_patch[b])
+      return fail("line " + std::to_string(cut[e]) + " has the same cell on both sides (edge " +
+                  std::to_string(incidence.edges(e, 0)) + "-" + std::to_string(incidence.edges(e, 1)) + ")");
+    for (int j = incidence.edge_offsets[e]; j < incidence.edge_offsets[e + 1]; ++j)
+      boundary[C.face_patch[incidence.edge_sides[j] / 3]].push_back(incidence.edge_sides[j]);
+  }
+  C.patch_corners.resize(patches, 4);
+  C.patch_sides.resize(patches, 4);
+  std::vector<int> next_side(n, -1), seen(n, -1);
+  for (int p = 0; p < patches; ++p) {
+    const auto tail = [&](int side) { return S.F(side / 3, side % 3); };
+    const auto head = [&](int side) { return S.F(side / 3, (side % 3 + 1) % 3); };
+    for (const int side : boundary[p]) {
+      if (next_side[tail(side)] >= 0) return fail("cell " + std::to_string(p) + " touches itself at vertex " + std::to_string(tail(side)));
+      next_side[tail(side)] = side;
+    }
+    std::vector<int> loop, loop_sides;
+    if (!boundary[p].empty()) {
+      int side = boundary[p].front();
+      do {
+        loop.push_back(tail(side));
+        loop_sides.push_back(side);
+        side = next_side[head(side)];
+      } while (side >= 0 && side != boundary[p].front() && loop.size() <= boundary[p].size());
+    }
+    for (const int side : boundary[p]) next_side[tail(side)] = -1;
+    if (loop.size() != boundary[p].size() || boundary[p].empty())
+      return fail("cell " + std::to_string(p) + " has " + (boundary[p].empty() ? "no" : "more than one") + " boundary loop");
+    // χ = V − E + F of the cell (E = (3F + B) / 2) must be 1: a disk.
+    long long vertices = 0;
+    for (Eigen::Index face = 0; face < m; ++face) {
+      if (C.face_patch[face] != p) continue;
+      for (int k = 0; k < 3; ++k)
+        if (seen[S.F(face, k)] != p) seen[S.F(face, k)] = p, ++vertices;
+    }
+    const long long faces = face_count[p], edges = (3 * faces + static_cast<long long>(loop.size())) / 2;
+    if (vertices - edges + faces != 1) return fail("cell " + std::to_string(p) + " is not a disk");
+    std::vector<int> corners, corner_at;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      if (C.vertex_type[loop[k]] != static_cast<int>(CriticalType::regular)) {
+        corners.push_back(loop[k]);
+        corner_at.push_back(static_cast<int>(k));
+      }
+    }
+    if (corners.size() != 4) return fail("cell " + std::to_string(p) + " has " + std::to_string(corners.size()) + " corners");
+    int first = 0;
+    while (first < 4 && !is(corners[first], CriticalType::maximum)) ++first;
+    if (first == 4 || !is(corners[(first + 1) % 4], CriticalType::saddle) ||
+        !is(corners[(first + 2) % 4], CriticalType::minimum) || !is(corners[(first + 3) % 4], CriticalType::saddle))
+      return fail("cell " + std::to_string(p) + "'s corners are not maximum, saddle, minimum, saddle");
+    for (int k = 0; k < 4; ++k) {
+      const int c = (first + k) % 4;
+      C.patch_corners(p, k) = corners[c];
+      C.patch_sides(p, k) = cut[incidence.side_edge[loop_sides[corner_at[c]]]];
+    }
+  }
+}
+
+/// 1-to-4 split of every triangle at its edge midpoints, f interpolated linearly.
+Surface subdivide(const Surface& S) {
+  const Eigen::Index n = S.V.rows(), m = S.F.rows();
+  const topology::EdgeIncidence incidence = topology::edge_incidence(S.F, n);
+  const Eigen::Index e_count = incidence.n_edges();
+  Surface R;
+  R.V.resize(n + e_count, 3);
+  R.f.resize(n + e_count);
+  R.V.topRows(n) = S.V;
+  R.f.head(n) = S.f;
+  for (Eigen::Index e = 0; e < e_count; ++e) {
+    const int a = incidence.edges(e, 0), b = incidence.edges(e, 1);
+    R.V.row(n + e) = 0.5 * (S.V.row(a) + S.V.row(b));
+    R.f[n + e] = 0.5 * (S.f[a] + S.f[b]);
+  }
+  R.F.resize(4 * m, 3);
+  for (Eigen::Index face = 0; face < m; ++face) {
+    const int a = S.F(face, 0), b = S.F(face, 1), c = S.F(face, 2);
+    const int ab = static_cast<int>(n + incidence.side_edge[3 * face]);
+    const int bc = static_cast<int>(n + incidence.side_edge[3 * face + 1]);
+    const int ca = static_cast<int>(n + incidence.side_edge[3 * face + 2]);
+    R.F.row(4 * face) << a, ab, ca;
+    R.F.row(4 * face + 1) << ab, b, bc;
+    R.F.row(4 * face + 2) << ca, bc, c;
+    R.F.row(4 * face + 3) << ab, bc, ca;
+  }
+  return R;
+}
+
+/// Splits every chord of a line (a mesh edge joining two of its vertices that are not
+/// consecutive on it) at its midpoint, f interpolated linearly: otherwise the triangles on a
+/// chord would map onto one side of the square with zero area. The new vertices are regular.
+/// Returns the number of splits.
+Eigen::Index split_chords(Surface& S, MorseSmaleComplex& C) {
+  const int n = static_cast<int>(S.V.rows());
+  std::vector<std::vector<int>> vertex_faces(n);
+  for (Eigen::Index face = 0; face < S.F.rows(); ++face)
+    for (int k = 0; k < 3; ++k) vertex_faces[S.F(face, k)].push_back(static_cast<int>(face));
+  std::vector<int> stamp(n, -1), position(n, -1);
+  std::vector<std::pair<int, int>> chords;
+  for (std::size_t l = 0; l < C.lines.size(); ++l) {
+    const auto& line = C.lines[l];
+    for (std::size_t k = 0; k < line.size(); ++k) stamp[line[k]] = static_cast<int>(l), position[line[k]] = static_cast<int>(k);
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      for (const int face : vertex_faces[line[k]]) {
+        for (int j = 0; j < 3; ++j) {
+          const int w = S.F(face, j);
+          if (stamp[w] == static_cast<int>(l) && position[w] > static_cast<int>(k) + 1) chords.emplace_back(line[k], w);
+        }
+      }
+    }
+  }
+  std::sort(chords.begin(), chords.end());
+  chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
+  // An edge of another line (a one-edge line between the same two ends) is left alone.
+  std::vector<EdgeKey> line_edges;
+  for (const auto& line : C.lines)
+    for (std::size_t k = 0; k + 1 < line.size(); ++k) line_edges.push_back(edge_key(line[k], line[k + 1]));
+  std::sort(line_edges.begin(), line_edges.end());
+  chords.erase(std::remove_if(chords.begin(), chords.end(), [&](const std::pair<int, int>& c) {
+    return std::binary_search(line_edges.begin(), line_edges.end(), edge_key(c.first, c.second));
+  }), chords.end());
+  if (chords.empty()) return 0;
+  std::vector<std::array<int, 3>> faces(S.F.rows());
+  for (Eigen::Index face = 0; face < S.F.rows(); ++face) faces[face] = {S.F(face, 0), S.F(face, 1), S.F(face, 2)};
+  std::vector<Eigen::RowVector3d> added;
+  std::vector<double> added_f;
+  for (const auto& [a, b] : chords) {
+    const int m = n + static_cast<int>(added.size());
+    added.push_back(0.5 * (S.V.row(a) + S.V.row(b)));
+    added_f.push_back(0.5 * (S.f[a] + S.f[b]));
+    vertex_faces.emplace_back();
+    const std::vector<int> around = vertex_faces[a];
+    for (const int face : around) {
+      auto& t = faces[face];
+      int k = 0;
+      while (k < 3 && !((t[k] == a && t[(k + 1) % 3] == b) || (t[k] == b && t[(k + 1) % 3] == a))) ++k;
+      if (k == 3) continue;
+      const int u = t[k], w = t[(k + 1) % 3], c = t[(k + 2) % 3];
+      const int g = static_cast<int>(faces.size());
+      t = {u, m, c};
+      faces.push_back({m, w, c});
+      std::replace(vertex_faces[w].begin(), vertex_faces[w].end(), face, g);
+      vertex_faces[c].push_back(g);
+      vertex_faces[m].push_back(face);
+      vertex_faces[m].push_back(g);
+    }
+  }
+  const Eigen::Index total = n + static_cast<Eigen::Index>(added.size());
+  S.V.conservativeResize(total, 3);
+  S.f.conservativeResize(total);
+  for (std::size_t i = 0; i < added.size(); ++i) S.V.row(n + i) = added[i], S.f[n + i] = added_f[i];
+  S.F.resize(faces.size(), 3);
+  for (std::size_t face = 0; face < faces.size(); ++face) S.F.row(face) << faces[face][0], faces[face][1], faces[face][2];
+  C.vertex_type.conservativeResize(total);
+  C.saddle_multiplicity.conservativeResize(total);
+  C.vertex_type.tail(added.size()).setZero();
+  C.saddle_multiplicity.tail(added.size()).setZero();
+  return static_cast<Eigen::Index>(chords.size());
+}
+
+/// Every face at an extremum split 1-to-3 at its centroid (f the mean of its corners, so the PL
+/// function and its critical points do not change): the extremum's valence doubles, and with it
+/// the number of lines that can reach it through distinct neighbours.
+Surface star_split(const Surface& S) {
+  const int n = static_cast<int>(S.V.rows());
+  Eigen::VectorXi type, multiplicity;
+  classify(one_rings(S.F, n), S.f, type, multiplicity);
+  const auto extremum = [&](int v) {
+    return type[v] == static_cast<int>(CriticalType::maximum) || type[v] == static_cast<int>(CriticalType::minimum);
+  };
+  std::vector<std::array<int, 3>> faces;
+  std::vector<int> split;
+  for (Eigen::Index face = 0; face < S.F.rows(); ++face) {
+    if (extremum(S.F(face, 0)) || extremum(S.F(face, 1)) || extremum(S.F(face, 2))) {
+      const int c = n + static_cast<int>(split.size());
+      split.push_back(static_cast<int>(face));
+      for (int k = 0; k < 3; ++k) faces.push_back({S.F(face, k), S.F(face, (k + 1) % 3), c});
+    } else {
+      faces.push_back({S.F(face, 0), S.F(face, 1), S.F(face, 2)});
+    }
+  }
+  Surface R;
+  R.V.resize(n + split.size(), 3);
+  R.f.resize(n + split.size());
+  R.V.topRows(n) = S.V;
+  R.f.head(n) = S.f;
+  for (std::size_t i = 0; i < split.size(); ++i) {
+    const auto t = S.F.row(split[i]);
+    R.V.row(n + i) = (S.V.row(t[0]) + S.V.row(t[1]) + S.V.row(t[2])) / 3.0;
+    R.f[n + i] = (S.f[t[0]] + S.f[t[1]] + S.f[t[2]]) / 3.0;
+  }
+  R.F.resize(faces.size(), 3);
+  for (std::size_t face = 0; face < faces.size(); ++face) R.F.row(face) << faces[face][0], faces[face][1], faces[face][2];
+  return R;
+}
+
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+/// Steps 3 and 4: harmonic maps of the cells and their conforming grids.
+SpectralQuadrangulation grids(const Surface& S, const MorseSmaleComplex& C, double h, double target_quads,
+                              const Progress& progress) {
+  const auto& lines = C.lines;
+  const int n_lines = static_cast<int>(lines.size());
+  const Eigen::Index patches = C.patch_corners.rows();
+  // Arc lengths along each line.
+  std::vector<std::vector<double>> arc(n_lines);
+  for (int l = 0; l < n_lines; ++l) {
+    arc[l].assign(1, 0.0);
+    for (std::size_t k = 1; k < lines[l].size(); ++k)
+      arc[l].push_back(arc[l].back() + (S.V.row(lines[l][k]) - S.V.row(lines[l][k - 1])).norm());
+  }
+  // Chains of sides that must have the same count.
+  std::vector<int> parent(n_lines);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (Eigen::Index p = 0; p < patches; ++p)
+    for (int k = 0; k < 2; ++k)
+      parent[find_root(parent, C.patch_sides(p, k))] = find_root(parent, C.patch_sides(p, k + 2));
+  std::vector<double> chain_length(n_lines, 0.0);
+  std::vector<int> chain_size(n_lines, 0), count(n_lines);
+  for (int l = 0; l < n_lines; ++l) {
+    chain_length[find_root(parent, l)] += arc[l].back();
+    ++chain_size[find_root(parent, l)];
+  }
+  // Counts n = round(mean chain length / step); the cells are not rectangles (Σ n·m over-counts
+  // area / h²), so the step is rescaled a few times towards the target, the closest kept.
+  const auto assign = [&](double step) {
+    for (int l = 0; l < n_lines; ++l) {
+      const int root = find_root(parent, l);
+      count[l] = static_cast<int>(std::clamp(std::round(chain_length[root] / chain_size[root] / step), 1.0, 1e6));
+    }
+    double total = 0.0;
+    for (Eigen::Index p = 0; p < patches; ++p) total += double(count[C.patch_sides(p, 0)]) * count[C.patch_sides(p, 1)];
+    return total;
+  };
+  double step = h, best_step = h, best_error = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    const double total = assign(step);
+    if (std::abs(total - target_quads) < best_error) best_error = std::abs(total - target_quads), best_step = step;
+    step *= std::sqrt(total / target_quads);
+  }
+  assign(best_step);
+
+  SpectralQuadrangulation out;
+  std::vector<Eigen::RowVector3d> nodes;
+  std::vector<int> node_of_vertex(S.V.rows(), -1);
+  for (const auto& line : lines)
+    for (const int v : {line.front(), line.back()})
+      if (node_of_vertex[v] < 0) node_of_vertex[v] = static_cast<int>(nodes.size()), nodes.push_back(S.V.row(v));
+  std::vector<int> line_start(n_lines);
+  for (int l = 0; l < n_lines; ++l) {
+    line_start[l] = static_cast<int>(nodes.size());
+    std::size_t k = 1;
+    for (int i = 1; i < count[l]; ++i) {
+      const double t = arc[l].back() * i / count[l];
+      while (k + 1 < arc[l].size() && arc[l][k] < t) ++k;
+      const double span = arc[l][k] - arc[l][k - 1];
+      const double w = span > 0 ? std::clamp((t - arc[l][k - 1]) / span, 0.0, 1.0) : 0.0;
+      nodes.push_back((1 - w) * S.V.row(lines[l][k - 1]) + w * S.V.row(lines[l][k]));
+    }
+  }
+  const auto line_node = [&](int l, int t) {
+    if (t == 0) return node_of_vertex[lines[l].front()];
+    if (t == count[l]) return node_of_vertex[lines[l].back()];
+    return line_start[l] + t - 1;
+  };
+
+  std::vector<std::vector<int>> patch_faces(patches);
+  for (Eigen::Index face = 0; face < S.F.rows(); ++face) patch_faces[C.face_patch[face]].push_back(static_cast<int>(face));
+  std::vector<int> local(S.V.rows(), -1);
+  std::vector<std::array<int, 4>> quads;
+  std::vector<int> quad_patch;
+  out.patch_corners.resize(patches, 4);
+  const std::array<Eigen::RowVector2d, 4> square{Eigen::RowVector2d(0, 0), Eigen::RowVector2d(1, 0),
+                                                 Eigen::RowVector2d(1, 1), Eigen::RowVector2d(0, 1)};
+  for (Eigen::Index p = 0; p < patches; ++p) {
+    progress.report(static_cast<double>(p) / patches, "harmonic maps of the cells");
+    // The cell as its own mesh.
+    std::vector<int> global;
+    FaceMatrix Fp(patch_faces[p].size(), 3);
+    for (std::size_t i = 0; i < patch_faces[p].size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = S.F(patch_faces[p][i], k);
+        if (local[v] < 0) local[v] = static_cast<int>(global.size()), global.push_back(v);
+        Fp(i, k) = local[v];
+      }
+    }
+    VertexMatrix Vp(global.size(), 3);
+    for (std::size_t i = 0; i < global.size(); ++i) Vp.row(i) = S.V.row(global[i]);
+    // Its boundary: side k runs along line patch_sides(p, k) from corner k to corner k + 1.
+    parametrization::BoundaryMap boundary;
+    std::array<bool, 4> forward{};
+    std::array<int, 4> side_count{};
+    for (int k = 0; k < 4; ++k) {
+      const int l = C.patch_sides(p, k);
+      forward[k] = lines[l].front() == C.patch_corners(p, k);
+      side_count[k] = count[l];
+      const int length = static_cast<int>(lines[l].size());
+      for (int i = 0; i + 1 < length; ++i) {
+        const int at = forward[k] ? i : length - 1 - i;
+        const double t = forward[k] ? arc[l][at] / arc[l].back() : 1.0 - arc[l][at] / arc[l].back();
+        boundary.indices.push_back(local[lines[l][at]]);
+        boundary.uv.conservativeResize(boundary.uv.rows() + 1, 2);
+        boundary.uv.row(boundary.uv.rows() - 1) = (1 - t) * square[k] + t * square[(k + 1) % 4];
+      }
+      out.patch_corners(p, k) = node_of_vertex[C.patch_corners(p, k)];
+    }
+    const geometry::ParameterMatrix uv =
+        parametrization::harmonic(Vp, Fp, boundary, parametrization::HarmonicWeights::mean_value);
+    for (const int v : global) local[v] = -1;
+
+    const int nu = side_count[0], nv = side_count[1];
+    const auto side_node = [&](int k, int index) {
+      const int l = C.patch_sides(p, k);
+      return line_node(l, forward[k] ? index : count[l] - index);
+    };
+    // Interior grid points: located in the map's triangles (the one with the largest smallest
+    // barycentric coordinate, so points on edges get one answer).
+    const int inner = std::max(0, nu - 1) * std::max(0, nv - 1);
+    std::vector<double> best(inner, -std::numeric_limits<double>::infinity());
+    std::vector<Eigen::RowVector3d> position(inner);
+    for (Eigen::Index t = 0; t < Fp.rows(); ++t) {
+      const Eigen::RowVector2d a = uv.row(Fp(t, 0)), b = uv.row(Fp(t, 1)), c = uv.row(Fp(t, 2));
+      const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+      if (!(std::abs(area) > 0)) continue;
+      const double eps = 1e-9;
+      const int i0 = std::max(1, static_cast<int>(std::ceil((std::min({a.x(), b.x(), c.x()}) - eps) * nu)));
+      const int i1 = std::min(nu - 1, static_cast<int>(std::floor((std::max({a.x(), b.x(), c.x()}) + eps) * nu)));
+      const int j0 = std::max(1, static_cast<int>(std::ceil((std::min({a.y(), b.y(), c.y()}) - eps) * nv)));
+      const int j1 = std::min(nv - 1, static_cast<int>(std::floor((std::max({a.y(), b.y(), c.y()}) + eps) * nv)));
+      for (int i = i0; i <= i1; ++i) {
+        for (int j = j0; j <= j1; ++j) {
+          const Eigen::RowVector2d q(static_cast<double>(i) / nu, static_cast<double>(j) / nv);
+          const double wa = ((b - q).x() * (c - q).y() - (b - q).y() * (c - q).x()) / area;
+          const double wb = ((c - q).x() * (a - q).y() - (c - q).y() * (a - q).x()) / area;
+          const double wc = 1.0 - wa - wb;
+          const double worst = std::min({wa, wb, wc});
+          const int index = (i - 1) * (nv - 1) + (j - 1);
+          if (worst > best[index] && worst > -1e-6) {
+            best[index] = worst;
+            position[index] = wa * Vp.row(Fp(t, 0)) + wb * Vp.row(Fp(t, 1)) + wc * Vp.row(Fp(t, 2));
+          }
+        }
+      }
+    }
+    const int interior_start = static_cast<int>(nodes.size());
+    for (int index = 0; index < inner; ++index) {
+      if (!(best[index] > -1e-6))
+        throw SolverError("spectral_quadrangulate: a grid point of cell " + std::to_string(p) +
+                          " is outside its harmonic map (a folded map)");
+      nodes.push_back(position[index]);
+    }
+    const auto grid_node = [&](int i, int j) {
+      if (j == 0) return side_node(0, i);
+      if (j == nv) return side_node(2, nu - i);
+      if (i == 0) return side_node(3, nv - j);
+      if (i == nu) return side_node(1, j);
+      return interior_start + (i - 1) * (nv - 1) + (j - 1);
+    };
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) {
+        quads.push_back({grid_node(i, j), grid_node(i + 1, j), grid_node(i + 1, j + 1), grid_node(i, j + 1)});
+        quad_patch.push_back(static_cast<int>(p));
+      }
+  }
+  out.V.resize(nodes.size(), 3);
+  for (std::size_t i = 0; i < nodes.size(); ++i) out.V.row(i) = nodes[i];
+  out.Q.resize(quads.size(), 4);
+  out.quad_patch.resize(quads.size());
+  for (std::size_t i = 0; i < quads.size(); ++i) {
+    for (int k = 0; k < 4; ++k) out.Q(i, k) = quads[i][k];
+    out.quad_patch[i] = quad_patch[i];
+  }
+  return out;
+}
+
+/// Saddles (with multiplicity) of f: the cell count of its complex is twice this.
+Eigen::Index saddle_count(const Rings& rings, const Eigen::VectorXd& f) {
+  Eigen::VectorXi type, multiplicity;
+  classify(rings, f, type, multiplicity);
+  return multiplicity.sum();
+}
+
+}  // namespace
+
+MorseSmaleComplex morse_smale_complex(const VertexRef& input_V, const FaceRef& F,
+                                      const Eigen::Ref<const Eigen::VectorXd>& f) {
+  const auto normalized = parametrization::detail::normalized(input_V);
+  const auto checked = parametrization::detail::check_mesh(normalized.V, F, parametrization::detail::Requirement::any,
+                                                           "morse_smale_complex");
+  if (!checked.boundary_loops.empty())
+    throw InputError("morse_smale_complex: the mesh has " + std::to_string(checked.boundary_loops.size()) +
+                     " boundary loop(s); the complex is traced on closed surfaces");
+  if (f.size() != input_V.rows())
+    throw InputError("morse_smale_complex: f has " + std::to_string(f.size()) + " values for " +
+                     std::to_string(input_V.rows()) + " vertices");
+  for (Eigen::Index i = 0; i < f.size(); ++i)
+    if (!std::isfinite(f[i])) throw InputError("morse_smale_complex: f[" + std::to_string(i) + "] is not finite");
+  Surface S{normalized.V, F, f};
+  const Rings rings = one_rings(S.F, static_cast<int>(S.V.rows()));
+  bool stuck = false;
+  return trace_complex(S, rings, stuck);
+}
+
+SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const FaceRef& F,
+                                               const SpectralOptions& options, const Progress& progress) {
+  const auto normalized = parametrization::detail::normalized(input_V);
+  const auto checked = parametrization::detail::check_mesh(normalized.V, F, parametrization::detail::Requirement::any,
+                                                           "spectral_quadrangulate");
+  if (!checked.boundary_loops.empty())
+    throw InputError("spectral_quadrangulate: the mesh has " + std::to_string(checked.boundary_loops.size()) +
+                     " boundary loop(s); spectral quadrangulation handles closed surfaces");
+  const Eigen::Index n = input_V.rows();
+  if (options.target_faces < 0 || options.target_faces > (Eigen::Index(1) << 24))
+    throw InputError("spectral_quadrangulate: target_faces must be in [1, 2^24]");
+  if (options.target_patches < 0 || options.target_patches > 100000)
+    throw InputError("spectral_quadrangulate: target_patches must be in [1, 100000]");
+  if (options.eigenvector < 0 || options.eigenvector >= n - 1)
+    throw InputError("spectral_quadrangulate: eigenvector = " + std::to_string(options.eigenvector) +
+                     " outside [1, #V − 2] = [1, " + std::to_string(n - 2) + "]");
+  const VertexMatrix& V = normalized.V;
+  double area = 0.0, edges = 0.0;
+  for (Eigen::Index face = 0; face < F.rows(); ++face) {
+    const Eigen::RowVector3d a = V.row(F(face, 0)), b = V.row(F(face, 1)), c = V.row(F(face, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+    edges += (b - a).norm() + (c - b).norm() + (a - c).norm();
+  }
+  const double h = options.target_faces > 0 ? std::sqrt(area / options.target_faces)
+                                            : 2.0 * edges / (3.0 * F.rows());
+  const double quads = area / (h * h);
+  const Eigen::Index target_patches =
+      options.target_patches > 0 ? options.target_patches
+                                 : std::clamp<Eigen::Index>(std::llround(quads / 25.0), 8, 240);
+  // Eigenpairs up to the one asked for, or enough that some have ~target_patches cells (the
+  // count grows about linearly with the index; a band of indices around it is tried).
+  const Eigen::Index k = options.eigenvector > 0
+                             ? options.eigenvector + 1
+                             : std::min<Eigen::Index>(n - 1, std::clamp<Eigen::Index>(target_patches / 2 + 8, 12, 128));
+  progress.report(0.0, "eigenpairs");
+  const geometry::LaplacianEigenpairs eigen =
+      geometry::laplacian_eigenpairs(input_V, F, k, geometry::MassMatrixType::voronoi, progress.subrange(0.0, 0.6));
+  const Rings rings = one_rings(FaceMatrix(F), static_cast<int>(n));
+  std::vector<Eigen::Index> candidates;
+  if (options.eigenvector > 0) {
+    candidates.push_back(options.eigenvector);
+  } else {
+    std::vector<Eigen::Index> cells(k, 0);
+    for (Eigen::Index i = 1; i < k; ++i) {
+      cells[i] = 2 * saddle_count(rings, eigen.vectors.col(i));
+      if (cells[i] > 0) candidates.push_back(i);
+    }
+    std::stable_sort(candidates.begin(), candidates.end(), [&](Eigen::Index a, Eigen::Index b) {
+      return std::abs(cells[a] - target_patches) < std::abs(cells[b] - target_patches);
+    });
+    if (candidates.size() > 12) candidates.resize(12);
+  }
+  progress.report(0.6, "Morse-Smale complex");
+  std::string last_problem = "no eigenvector among the first " + std::to_string(k) + " has a saddle";
+  Eigen::Index tried = 0;
+  for (const Eigen::Index index : candidates) {
+    ++tried;
+    Surface S = star_split(Surface{V, FaceMatrix(F), eigen.vectors.col(index)});
+    for (int level = 0;; ++level) {
+      const Rings surface_rings = one_rings(S.F, static_cast<int>(S.V.rows()));
+      bool stuck = false, any_stuck = false;
+      MorseSmaleComplex C;
+      Surface T;
+      for (int order = 0; order < 4; ++order) {
+        C = trace_complex(S, surface_rings, stuck, order);
+        any_stuck = any_stuck || stuck;
+        if (C.complete()) {
+          T = S;
+          if (split_chords(T, C) > 0) build_cells(T, C);
+        }
+        if (C.complete()) break;
+      }
+      stuck = any_stuck;
+      if (C.complete()) {
+        SpectralQuadrangulation out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
+        out.V = normalized.frame.vertices_to_input(out.V, "spectral_quadrangulate: vertex");
+        out.eigenvector = index;
+        out.eigenvalue = eigen.values[index];
+        out.maxima = C.maxima;
+        out.minima = C.minima;
+        out.saddles = C.saddles;
+        out.multi_saddles = (C.saddle_multiplicity.array() > 1).count();
+        out.refinements = level;
+        out.detours = C.detours;
+        out.candidates_tried = tried;
+        progress.report(1.0, "done");
+        return out;
+      }
+      last_problem = "eigenvector " + std::to_string(index) + ": " + C.problem;
+      if (!stuck || level == 2 || S.F.rows() * 4 > 4000000) break;
+      S = star_split(subdivide(S));
+      progress.report(0.6, "Morse-Smale complex");
+    }
+  }
+  throw SolverError("spectral_quadrangulate: no complete Morse-Smale complex among " + std::to_string(tried) +
+                    " eigenvector(s); " + last_problem);
+}
+
+}  // namespace meshsmith::quadrangulation

@@ -1,0 +1,173 @@
+"""Spectral Morse–Smale quadrangulation (§5.2.1): a Laplacian eigenfunction, its Morse–Smale complex,
+harmonic maps of the quad cells onto the unit square, and conforming grids; binding
+cpp/python/quadrangulation_spectral.cpp."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _arguments
+from .._core import quadrangulation as _core
+from .._results import Unpackable
+from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
+from .pipeline import _irregular_vertices
+from .quality import quad_quality
+
+__all__ = ["MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulationReport",
+           "SpectralQuadrangulation", "spectral_quadrangulate", "CRITICAL_TYPES"]
+
+#: vertex_type codes of :class:`MorseSmaleComplex`.
+CRITICAL_TYPES = {0: "regular", 1: "minimum", 2: "saddle", 3: "maximum"}
+
+
+@dataclass(frozen=True)
+class MorseSmaleComplex(Unpackable):
+    """The result of :func:`morse_smale_complex`; unpacks in field order.
+
+    vertex_type: (n,) int64, 0 regular, 1 minimum, 2 saddle, 3 maximum (:data:`CRITICAL_TYPES`);
+    saddle_multiplicity: (n,) int64, k - 1 at a saddle whose ring has 2k wedges, else 0;
+    maxima, minima, saddles: counts (saddles with multiplicity, so maxima - saddles + minima = χ);
+    lines: the separatrices, each an int64 vertex path from a saddle to an extremum along mesh
+    edges; line_ascending: (l,) bool, the line goes up to a maximum; detours: lines that met
+    another line and went on beside it (the shortest free path to that line's extremum); face_patch: (m,) int64, the
+    cell of each face (-1 when incomplete); patch_corners: (p, 4) int64 vertices, counter-clockwise,
+    maximum, saddle, minimum, saddle; patch_sides: (p, 4) int64, the line from corner k to k+1;
+    problem: '' when complete, else what failed first; complete: every cell is a disk with four
+    sides and max-saddle-min-saddle corners.
+    """
+
+    vertex_type: IndexArray
+    saddle_multiplicity: IndexArray
+    maxima: int
+    minima: int
+    saddles: int
+    lines: list[IndexArray]
+    line_ascending: BoolArray
+    detours: int
+    face_patch: IndexArray
+    patch_corners: IndexArray
+    patch_sides: IndexArray
+    problem: str
+    complete: bool
+
+
+def morse_smale_complex(V: ArrayLike, F: ArrayLike, f: ArrayLike) -> MorseSmaleComplex:
+    """The Morse–Smale complex of a function on the vertices of a closed mesh (§5.2.1).
+
+    Vertices are classified by the wedges of their one-ring (Banchoff's criterion; ties broken by
+    vertex index, the simulation of simplicity): a maximum, a minimum, a saddle (2k wedges,
+    multiplicity k - 1) or regular. From every saddle, one line per wedge follows steepest ascent
+    (an upper wedge) to a maximum or steepest descent to a minimum along mesh edges; lines never
+    share a vertex but at their ends, so they cannot cross. A line that meets another (PL gradient
+    lines merge in valleys) goes on beside it by the shortest free path to the other's extremum.
+    A saddle with no free vertex in a wedge leaves the complex incomplete (``problem`` says where;
+    :func:`spectral_quadrangulate` then refines the mesh), as does a cell that is not a disk with
+    max-saddle-min-saddle corners.
+
+    V: (n, 3) float array; F: (m, 3) integer array, a clean, connected, closed, oriented manifold;
+    f: (n,) finite floats. Returns a :class:`MorseSmaleComplex`. Raises InputError for bad input
+    (boundaries included, naming the element).
+    """
+    out = _core.morse_smale_complex(V, F, f)
+    out["line_ascending"] = np.asarray(out["line_ascending"], dtype=bool)
+    out["complete"] = not out["problem"]
+    return MorseSmaleComplex(**out)
+
+
+@dataclass(frozen=True)
+class SpectralQuadrangulationReport(Unpackable):
+    """What :func:`spectral_quadrangulate` made; unpacks in field order.
+
+    quads: faces of the result; target_faces: the number asked for (None: quads of twice the
+    mean edge length); patches: cells of the Morse–Smale complex (each an n×m grid);
+    eigenvector, eigenvalue: the eigenpair used (-L u = λ M u, input units); maxima, minima,
+    saddles (with multiplicity), multi_saddles (saddle vertices of multiplicity > 1): its critical
+    points, maxima - saddles + minima = χ; refinements: 1-to-4 subdivisions the tracing needed;
+    detours: lines that went on beside another (see :func:`morse_smale_complex`);
+    candidates_tried: eigenvectors traced; irregular_vertices: vertices of valence other than 4;
+    mean_angle_deviation, max_angle_deviation: |angle - 90°| over every quad corner, degrees;
+    min_scaled_jacobian: over every corner; inverted_quads: quads with a corner of scaled
+    Jacobian <= 0. The report holds no timings, so equal calls give equal reports.
+    """
+
+    quads: int
+    target_faces: int | None
+    patches: int
+    eigenvector: int
+    eigenvalue: float
+    maxima: int
+    minima: int
+    saddles: int
+    multi_saddles: int
+    refinements: int
+    detours: int
+    candidates_tried: int
+    irregular_vertices: int
+    mean_angle_deviation: float
+    max_angle_deviation: float
+    min_scaled_jacobian: float
+    inverted_quads: int
+
+
+@dataclass(frozen=True)
+class SpectralQuadrangulation(Unpackable):
+    """The result of :func:`spectral_quadrangulate`; unpacks as ``V, Q, report``.
+
+    V: (k, 3) float64 quad-mesh vertices on the input surface; Q: (q, 4) int64 quads,
+    counter-clockwise like the input; quad_patch: (q,) int64 the cell each quad lies in;
+    patch_corners: (p, 4) int64 each cell's corners as rows of V (maximum, saddle, minimum,
+    saddle); report: a :class:`SpectralQuadrangulationReport`.
+    """
+
+    unpacks = ("V", "Q", "report")
+    V: FloatArray
+    Q: IndexArray
+    quad_patch: IndexArray
+    patch_corners: IndexArray
+    report: SpectralQuadrangulationReport
+
+
+@_arguments.real_options
+def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
+                           target_patches: int | None = None, eigenvector: int | None = None,
+                           progress: ProgressCallback = None) -> SpectralQuadrangulation:
+    """Quadrangulate a closed surface with the Morse–Smale complex of a Laplacian eigenfunction
+    (§5.2.1; Dong et al., "Spectral Surface Quadrangulation", 2006).
+
+    The lowest eigenpairs of the cotangent Laplacian with the Voronoi mass matrix
+    (:func:`meshsmith.geometry.laplacian_eigenpairs`) give the function; the eigenvector's index
+    sets the frequency, hence the number of cells (2 per saddle). Its :func:`morse_smale_complex`
+    cuts the surface into quads with max-saddle-min-saddle corners; each is mapped by a mean-value
+    harmonic map (:func:`meshsmith.parametrization.harmonic`, bijective onto the convex square)
+    with its corners at (0, 0), (1, 0), (1, 1), (0, 1), and sampled by an n×m grid. The counts are
+    chosen per chain of sides (opposite sides of a cell, the shared side of two cells), so the grids
+    meet node for node: a pure, manifold, consistently oriented quad mesh with the input's Euler
+    characteristic. The cells' maps are independent (no transition functions between them).
+
+    V: (n, 3) float array; F: (m, 3) integer array, a clean, connected, closed, oriented manifold.
+    target_faces: about how many quads (None: quads of twice the mean edge length);
+    target_patches: about how many cells (None: one per ~25 quads, in [8, 240]); eigenvector: its
+    index (>= 1) instead, overriding target_patches. progress: optional callback
+    (fraction, stage) -> bool (False cancels).
+
+    Returns a :class:`SpectralQuadrangulation` (unpacks as ``V, Q, report``). Raises InputError
+    for bad input, boundaries, or options out of range; SolverError when no candidate
+    eigenvector gives a complete complex (the message says why); Cancelled from `progress`.
+    """
+    progress = _arguments.progress(progress)
+    out = _core.spectral_quadrangulate(V, F, target_faces, target_patches, eigenvector, progress)
+    Vq, Q = out["V"], out["Q"]
+    quality = quad_quality(Vq, Q)
+    deviation = np.abs(quality.angles - 90.0)
+    report = SpectralQuadrangulationReport(
+        quads=len(Q), target_faces=None if target_faces is None else int(target_faces),
+        patches=len(out["patch_corners"]), eigenvector=int(out["eigenvector"]),
+        eigenvalue=float(out["eigenvalue"]), maxima=int(out["maxima"]), minima=int(out["minima"]),
+        saddles=int(out["saddles"]), multi_saddles=int(out["multi_saddles"]),
+        refinements=int(out["refinements"]), detours=int(out["detours"]), candidates_tried=int(out["candidates_tried"]),
+        irregular_vertices=_irregular_vertices(Q, quality.valence),
+        mean_angle_deviation=float(deviation.mean()), max_angle_deviation=float(deviation.max()),
+        min_scaled_jacobian=float(quality.scaled_jacobian.min()),
+        inverted_quads=int((quality.scaled_jacobian <= 0).sum()))
+    return SpectralQuadrangulation(Vq, Q, out["quad_patch"], out["patch_corners"], report)

@@ -1,0 +1,171 @@
+"""Spectral Morse–Smale quadrangulation (§5.2.1): the complex of a Laplacian eigenfunction, its
+quad cells, and the conforming grids extracted from their harmonic maps."""
+import pickle
+
+import numpy as np
+import pytest
+
+import meshsmith
+from meshsmith import cli, datasets, geometry, io, topology
+from meshsmith.quadrangulation import morse_smale_complex, quad_quality, spectral_quadrangulate
+
+
+def triangles(Q):
+    return np.concatenate([Q[:, [0, 1, 2]], Q[:, [0, 2, 3]]])
+
+
+def volume(V, F):
+    V, F = np.asarray(V), np.asarray(F)
+    return np.einsum("ij,ij->i", V[F[:, 0]], np.cross(V[F[:, 1]], V[F[:, 2]])).sum() / 6
+
+
+def check_quad_mesh(V, F, result):
+    """Pure quads, manifold, oriented, the input's χ, every cell a 4-cornered max-saddle-min-saddle
+    grid; returns (min scaled Jacobian, Hausdorff / diagonal)."""
+    Vq, Q, report = result
+    T = triangles(Q)
+    assert Q.shape[1] == 4 and len(Vq) == Q.max() + 1 == len(np.unique(Q))
+    assert topology.is_manifold(T) and topology.is_oriented(T)
+    assert topology.euler_characteristic(T) == topology.euler_characteristic(F)
+    assert len(topology.boundary_loops(T)) == 0
+    # every cell has four distinct corners, each a vertex of the quads of that cell
+    corners = result.patch_corners
+    assert corners.shape == (report.patches, 4)
+    assert all(len(set(row)) == 4 for row in corners.tolist())
+    for p in range(report.patches):
+        assert set(corners[p]) <= set(Q[result.quad_patch == p].ravel())
+    # Euler's formula for a quad complex on a closed surface: 2 cells per (simple) saddle
+    assert report.patches == 2 * report.saddles
+    assert report.maxima - report.saddles + report.minima == topology.euler_characteristic(F)
+    # the output's orientation agrees with the input's (outward normals on these closed meshes)
+    assert volume(Vq, T) * volume(V, F) > 0 and abs(volume(Vq, T) / volume(V, F) - 1) < 0.1
+    quality = quad_quality(Vq, Q)
+    assert report.inverted_quads == int((quality.scaled_jacobian <= 0).sum())
+    diagonal = np.linalg.norm(V.max(0) - V.min(0))
+    hausdorff = geometry.hausdorff_distance(V, F, Vq, T, sampled=True) / diagonal
+    return report.min_scaled_jacobian, hausdorff
+
+
+@pytest.mark.parametrize("mesh, chi, index", [
+    (lambda: datasets.icosphere(3), 2, 9),
+    (lambda: datasets.torus(1.0, 0.4, 48, 20), 0, 12),
+])
+def test_morse_invariant_of_eigenfunctions(mesh, chi, index):
+    V, F = mesh()
+    vectors = geometry.laplacian_eigenpairs(V, F, index + 1).vectors
+    for k in range(1, index + 1):
+        C = morse_smale_complex(V, F, vectors[:, k])
+        assert C.maxima - C.saddles + C.minima == chi
+        assert (C.vertex_type == 3).sum() == C.maxima and (C.vertex_type == 1).sum() == C.minima
+        assert C.saddle_multiplicity.sum() == C.saddles
+        if C.complete:
+            assert len(C.patch_corners) == 2 * C.saddles and (C.face_patch >= 0).all()
+            # lines share no vertex but their ends, run from a saddle to an extremum of their
+            # kind, and (when none had to go beside another) monotonically in f
+            inner = np.concatenate([line[1:-1] for line in C.lines] + [np.zeros(0, np.int64)])
+            assert len(np.unique(inner)) == len(inner) and (C.vertex_type[inner] == 0).all()
+            for line, up in zip(C.lines, C.line_ascending):
+                assert C.vertex_type[line[0]] == 2 and C.vertex_type[line[-1]] == (3 if up else 1)
+                steps = np.diff(vectors[line, k])
+                if C.detours == 0:
+                    assert (steps >= 0).all() if up else (steps <= 0).all()
+
+
+def test_height_function_on_a_sphere_has_two_extrema():
+    V, F = datasets.icosphere(3)
+    C = morse_smale_complex(V, F, V[:, 2] + 1e-3 * V[:, 0])
+    assert (C.maxima, C.minima, C.saddles) == (1, 1, 0)
+    assert V[C.vertex_type == 3][0, 2] == V[:, 2].max()
+
+
+def test_shared_mesh_morse_invariant(data_dir):
+    V, F = io.read_mesh(data_dir / "spot.obj")
+    chi = topology.euler_characteristic(F)
+    vectors = geometry.laplacian_eigenpairs(V, F, 31).vectors
+    for k in (5, 12, 30):
+        C = morse_smale_complex(V, F, vectors[:, k])
+        assert C.maxima - C.saddles + C.minima == chi
+
+
+def test_sphere_quadrangulation():
+    V, F = datasets.icosphere(4)
+    result = spectral_quadrangulate(V, F, target_faces=600)
+    jacobian, hausdorff = check_quad_mesh(V, F, result)
+    report = result.report
+    assert report.patches >= 6 and 0.5 * 600 < report.quads < 2.0 * 600
+    assert jacobian > 0 and report.inverted_quads == 0
+    assert hausdorff < 0.03
+    # on the unit sphere every node lies on the surface
+    assert np.allclose(np.linalg.norm(result.V, axis=1), 1.0, atol=0.01)
+
+
+def test_torus_quadrangulation():
+    V, F = datasets.torus(1.0, 0.4, 64, 24)
+    result = spectral_quadrangulate(V, F, target_faces=800)
+    jacobian, hausdorff = check_quad_mesh(V, F, result)
+    assert result.report.maxima + result.report.minima == result.report.saddles
+    # the cells at valence-2 extrema have a ~180° corner: a few quads there fold (reported)
+    assert result.report.inverted_quads <= 0.01 * result.report.quads and hausdorff < 0.03
+    assert result.report.irregular_vertices == 0
+
+
+def test_shared_mesh_quadrangulation(data_dir):
+    # bumpy-cube (39,936 faces). On spot, kitten, fertility and cheburashka no candidate
+    # eigenvector gives a complete complex yet (a line walled in by others: SolverError).
+    V, F = io.read_mesh(data_dir / "bumpy-cube.obj")
+    result = spectral_quadrangulate(V, F, target_faces=2000)
+    jacobian, hausdorff = check_quad_mesh(V, F, result)
+    report = result.report
+    assert report.inverted_quads == 0 and jacobian > 0
+    print(f"bumpy-cube: {report.quads} quads, {report.patches} cells (eigenvector {report.eigenvector}), "
+          f"{report.irregular_vertices} irregular, |angle-90| mean {report.mean_angle_deviation:.1f} "
+          f"max {report.max_angle_deviation:.1f}, min scaled Jacobian {jacobian:.3f} "
+          f"({report.inverted_quads} inverted), Hausdorff/diagonal {hausdorff:.4f}")
+    assert 0.5 * 2000 < report.quads < 2.0 * 2000
+    assert hausdorff < 0.02
+
+
+def test_eigenvector_option_and_counts_conform():
+    V, F = datasets.icosphere(3)
+    result = spectral_quadrangulate(V, F, eigenvector=9, target_faces=300)
+    assert result.report.eigenvector == 9 and result.report.candidates_tried == 1
+    check_quad_mesh(V, F, result)
+    # every cell's quads form an n×m grid: (n+1)(m+1) nodes
+    for p in range(result.report.patches):
+        cell = result.Q[result.quad_patch == p]
+        nodes = len(np.unique(cell))
+        assert any((n + 1) * (len(cell) // n + 1) == nodes for n in range(1, len(cell) + 1) if len(cell) % n == 0)
+    assert pickle.loads(pickle.dumps(result)).report == result.report
+
+
+def test_more_patches_for_a_higher_target():
+    V, F = datasets.icosphere(4)
+    few = spectral_quadrangulate(V, F, target_faces=600, target_patches=8).report.patches
+    many = spectral_quadrangulate(V, F, target_faces=600, target_patches=60).report.patches
+    assert few < many
+
+
+def test_bad_input():
+    V, F = datasets.icosphere(2)
+    with pytest.raises(meshsmith.InputError, match="boundary"):
+        spectral_quadrangulate(V, F[1:])
+    with pytest.raises(meshsmith.InputError, match="eigenvector"):
+        spectral_quadrangulate(V, F, eigenvector=len(V))
+    with pytest.raises(meshsmith.InputError):
+        spectral_quadrangulate(V, F, target_faces=0)
+    with pytest.raises(meshsmith.InputError, match="f"):
+        morse_smale_complex(V, F, np.zeros(len(V) - 1))
+    with pytest.raises(meshsmith.InputError, match="finite"):
+        morse_smale_complex(V, F, np.full(len(V), np.nan))
+
+
+def test_command_line_spectral(tmp_path, capsys):
+    V, F = datasets.icosphere(3)
+    path = tmp_path / "sphere.off"
+    io.write_mesh(path, V, F)
+    out = tmp_path / "quads.obj"
+    assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "300", "--method", "spectral"]) == 0
+    text = capsys.readouterr().out
+    assert "quads" in text and "cells" in text
+    Vq, P = io.read_mesh(out, triangulate=False)
+    assert (P.sizes == 4).all()
