@@ -46,7 +46,7 @@ def main() -> None:
     n2 = size(20_000, 5_000)
     P2 = rng.random((n2, 2))
     w2 = 1e-5 * rng.random(len(P2))
-    bench = Benchmark("contouring", f"power diagram, {n2 // 1000}k weighted sites in 2D (cells clipped)", repeats=3)
+    bench = Benchmark("contouring", f"power diagram, {n2 // 1000}k weighted sites in 2D (cells clipped)", repeats=5)
     bench.time("meshsmith", lambda: tess.power_diagram(P2, w2))
     bench.time("scipy Voronoi (unweighted)", lambda: Voronoi(P2), same_work=False)
     bench.time("scipy ConvexHull of lifted sites (triangulation only)", lambda: lifted_lower_hull(P2, w2),
@@ -63,7 +63,7 @@ def main() -> None:
     n3 = size(5_000, 1_000)
     P3 = rng.random((n3, 3))
     w3 = 1e-4 * rng.random(len(P3))
-    bench = Benchmark("contouring", f"power diagram, {n3 // 1000}k weighted sites in 3D (cells clipped)", repeats=3)
+    bench = Benchmark("contouring", f"power diagram, {n3 // 1000}k weighted sites in 3D (cells clipped)", repeats=5)
     bench.time("meshsmith", lambda: tess.power_diagram(P3, w3))
     bench.time("scipy Voronoi (unweighted)", lambda: Voronoi(P3), same_work=False)
     bench.time("scipy ConvexHull of lifted sites (triangulation only)", lambda: lifted_lower_hull(P3, w3),
@@ -76,7 +76,7 @@ def main() -> None:
     m = size(100_000, 10_000)
     t = np.linspace(0, 2 * np.pi, m, endpoint=False)
     curve = np.c_[(1 + 0.3 * np.cos(5 * t)) * np.cos(t), (1 + 0.3 * np.cos(5 * t)) * np.sin(t)]
-    bench = Benchmark("contouring", f"crust of {m // 1000}k samples of a star curve", repeats=3)
+    bench = Benchmark("contouring", f"crust of {m // 1000}k samples of a star curve", repeats=5)
     bench.time("meshsmith", lambda: tess.crust(curve))
     bench.time("scipy Delaunay (samples only)", lambda: Delaunay(curve), same_work=False)
     bench.report()
@@ -86,7 +86,7 @@ def main() -> None:
     V0, F0 = meshsmith.datasets.torus(n_major=size(256, 64), n_minor=size(128, 32))
     m = size(100_000, 5_000)
     P, _ = meshsmith.datasets.sample_points(V0, F0, m, seed=0)
-    bench = Benchmark("contouring", f"Cocone (crust_3d) of {m // 1000}k torus samples", repeats=3)
+    bench = Benchmark("contouring", f"Cocone (crust_3d) of {m // 1000}k torus samples", repeats=5)
     bench.time("meshsmith", lambda: tess.crust_3d(P))
     bench.time("scipy Delaunay 3D (triangulation only)", lambda: Delaunay(P), same_work=False)
     if o3d is not None:

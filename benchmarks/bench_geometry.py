@@ -91,7 +91,7 @@ def main() -> None:
 
     V, F = igl.read_triangle_mesh(str(armadillo))
     size_label = f"armadillo {len(F):,} faces"
-    bench = Benchmark("geometry", f"principal curvatures and directions (2-ring), {size_label}", repeats=3)
+    bench = Benchmark("geometry", f"principal curvatures and directions (2-ring), {size_label}", repeats=5)
     bench.time("meshsmith", lambda: geometry.principal_curvatures(V, F))  # 2-ring quadric fit
     bench.time("meshsmith (shape operator)",
                lambda: geometry.principal_curvatures(V, F, method="shape_operator"))
@@ -112,7 +112,7 @@ def main() -> None:
         M = igl.massmatrix(V, F, igl.MASSMATRIX_TYPE_VORONOI)
         return scipy.sparse.linalg.eigsh(-L, k=20, M=M, sigma=-1e-3)
 
-    bench = Benchmark("geometry", f"20 smallest Laplacian eigenpairs, {size_label}", repeats=3)
+    bench = Benchmark("geometry", f"20 smallest Laplacian eigenpairs, {size_label}", repeats=5)
     bench.time("meshsmith", lambda: geometry.laplacian_eigenpairs(V, F, 20))
     bench.time("scipy eigsh (SuperLU shift-invert)", arpack_eigenpairs)
     bench.report()

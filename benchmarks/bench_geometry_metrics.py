@@ -55,7 +55,7 @@ def main() -> None:
         return np.sqrt(max(igl.point_mesh_squared_distance(VA, VB, FB)[0].max(),
                            igl.point_mesh_squared_distance(VB, VA, FA)[0].max()))
 
-    bench = Benchmark("geometry_metrics", f"hausdorff (vertex-sampled), {faces} vs {faces} faces", repeats=3)
+    bench = Benchmark("geometry_metrics", f"hausdorff (vertex-sampled), {faces} vs {faces} faces", repeats=5)
     bench.time("meshsmith", lambda: hausdorff_distance(VA, FA, VB, FB))
     bench.time("igl.hausdorff", lambda: igl.hausdorff(VA, FA, VB, FB))
     bench.time("igl.point_mesh_squared_distance x2, sqrt, max", igl_two_sided)
@@ -67,7 +67,7 @@ def main() -> None:
     Q = VB
     tree = SurfaceDistance(VA, FA)
     queries = f"{len(Q) // 1000}k queries on {faces} faces"
-    bench = Benchmark("geometry_metrics", f"closest points (tree build + query), {queries}", repeats=3)
+    bench = Benchmark("geometry_metrics", f"closest points (tree build + query), {queries}", repeats=5)
     bench.time("meshsmith", lambda: SurfaceDistance(VA, FA).closest_points(Q))
     bench.time("igl.point_mesh_squared_distance", lambda: igl.point_mesh_squared_distance(Q, VA, FA))
     bench.time("meshsmith build alone", lambda: SurfaceDistance(VA, FA))
@@ -84,7 +84,7 @@ def main() -> None:
 
     igl_tree = igl.AABB()
     igl_tree.init(VA, FA)
-    bench = Benchmark("geometry_metrics", f"closest points, query of a prebuilt tree, {queries}", repeats=3)
+    bench = Benchmark("geometry_metrics", f"closest points, query of a prebuilt tree, {queries}", repeats=5)
     bench.time("meshsmith", lambda: tree.closest_points(Q))
     bench.time("igl.AABB squared_distance", lambda: igl_tree.squared_distance(VA, FA, Q))
     bench.report()
@@ -93,7 +93,7 @@ def main() -> None:
     VG, FG = datasets.grid(n, n)  # a height field over its own xy as parametrization
     VG[:, 2] = 0.2 * np.sin(6 * VG[:, 0]) * np.cos(4 * VG[:, 1])
     UV = VG[:, :2] * [1.3, 0.8]
-    bench = Benchmark("geometry_metrics", f"triangle_distortion, {len(FG) // 1000}k faces", repeats=3)
+    bench = Benchmark("geometry_metrics", f"triangle_distortion, {len(FG) // 1000}k faces", repeats=5)
     bench.time("meshsmith", lambda: triangle_distortion(VG, FG, UV))
     bench.time("numpy Jacobians + SVD", lambda: numpy_distortion(VG, FG, UV))
     bench.report()

@@ -71,7 +71,7 @@ def main() -> None:
         assert np.array_equal(V_ply, V) and np.array_equal(F_ply, F)
         for file_label, path in files.items():
             megabytes = path.stat().st_size / 1e6
-            bench = Benchmark("io", f"read {label} {file_label} ({megabytes:.1f} MB)", repeats=3)
+            bench = Benchmark("io", f"read {label} {file_label} ({megabytes:.1f} MB)", repeats=5)
             bench.time("meshsmith", lambda: meshsmith.io.read_mesh(path))
             for name, read in readers.items():
                 bench.time(name, lambda read=read: read(path))
@@ -92,7 +92,7 @@ def main() -> None:
         if igl:
             write_peers["libigl write_triangle_mesh"] = \
                 lambda path: igl.write_triangle_mesh(str(path), V, F, igl.FileEncoding.Binary)
-        for file_label, extension, repeats in (("binary PLY", "ply", 3), ("OBJ", "obj", size(1, 3))):
+        for file_label, extension, repeats in (("binary PLY", "ply", 5), ("OBJ", "obj", size(1, 5))):
             bench = Benchmark("io", f"write {label} {file_label}", repeats=repeats)
             target = folder / f"written.{extension}"
             bench.time("meshsmith", lambda: meshsmith.io.write_mesh(target, V, F))

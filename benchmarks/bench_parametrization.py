@@ -75,7 +75,7 @@ def main() -> None:
                 relative_difference(bench.output("meshsmith harmonic"), bench.output("igl.harmonic")), 1e-8)
 
     pins, pins_uv = P.default_lscm_pins(V, F)
-    bench = Benchmark("parametrization", f"LSCM (two pins), {len(F)} faces", repeats=3, reference="meshsmith lscm")
+    bench = Benchmark("parametrization", f"LSCM (two pins), {len(F)} faces", repeats=5, reference="meshsmith lscm")
     bench.time("meshsmith lscm", lambda: P.lscm(V, F, pins, pins_uv))
     bench.time("igl.lscm", lambda: igl.lscm(V, F64, pins, pins_uv))
     bench.time("meshsmith lscm_spectral", lambda: P.lscm_spectral(V, F), repeats=1)
@@ -96,7 +96,7 @@ def main() -> None:
 
     VT, FT = datasets.torus(n_major=size(256, 64), n_minor=size(128, 32))
     FT64 = FT.astype(np.int64)
-    bench = Benchmark("parametrization", f"cut_to_disk, torus {len(FT)} faces", repeats=size(1, 3),
+    bench = Benchmark("parametrization", f"cut_to_disk, torus {len(FT)} faces", repeats=size(1, 5),
                       reference="meshsmith cut_to_disk")
     bench.time("meshsmith cut_to_disk", lambda: P.cut_to_disk(VT, FT))
     bench.time("igl.cut_to_disk (cut graph only)", lambda: igl.cut_to_disk(FT64), same_work=False)

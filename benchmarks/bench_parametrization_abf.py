@@ -66,13 +66,13 @@ def main():
     result = parametrization.abf(V, F, method="abf++")
     print(f"\n{case}: {convergence_note(result, F, 'abf++')}")
     pins, pins_uv = parametrization.default_lscm_pins(V, F)
-    bench = Benchmark("parametrization_abf", case, repeats=3, reference="meshsmith abf++")
+    bench = Benchmark("parametrization_abf", case, repeats=5, reference="meshsmith abf++")
     bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, method="abf++"))
     bench.time("meshsmith lscm (for scale)", lambda: parametrization.lscm(V, F, pins, pins_uv), same_work=False)
     bench.report()
     check_abf(bench, result, F)
     if igl:
-        bench = Benchmark("parametrization_abf", f"LSCM on the same cap, {len(F):,} F", repeats=3)
+        bench = Benchmark("parametrization_abf", f"LSCM on the same cap, {len(F):,} F", repeats=5)
         bench.time("meshsmith", lambda: parametrization.lscm(V, F, pins, pins_uv))
         bench.time("libigl lscm", lambda: igl.lscm(V, F, pins, pins_uv))
         bench.report()
@@ -89,7 +89,7 @@ def main():
         case = f"ABF++ vs ABF, {label}, {len(V):,} V, {len(F):,} F"
         result = parametrization.abf(V, F, method="abf++")
         print(f"\n{case}: {convergence_note(result, F, 'abf++')}")
-        bench = Benchmark("parametrization_abf", case, repeats=3, reference="meshsmith abf++")
+        bench = Benchmark("parametrization_abf", case, repeats=5, reference="meshsmith abf++")
         bench.time("meshsmith abf++", lambda: parametrization.abf(V, F, method="abf++"))
         if len(F) <= 10_000:   # camelhead: ~50 s per ABF run here (measured once), too long to repeat
             bench.time("meshsmith abf (full KKT, LU)", lambda: parametrization.abf(V, F, method="abf"))

@@ -66,7 +66,7 @@ def main() -> None:
     P = noisy_sphere(n)
     label = f"{n / 1e6:g}M" if n >= 1e6 else f"{n // 1000}k"
 
-    bench = Benchmark("points", f"estimate_normals, {label} points, 16-point neighbourhoods", repeats=3)
+    bench = Benchmark("points", f"estimate_normals, {label} points, 16-point neighbourhoods", repeats=5)
     bench.time("meshsmith", lambda: mp.estimate_normals(P, k=15))
     bench.time("scipy cKDTree (workers=-1) + numpy eigh", lambda: scipy_numpy_normals(P))
     if o3d is not None:
@@ -79,7 +79,7 @@ def main() -> None:
         agreement = np.abs((mine * bench.output("open3d estimate_normals")).sum(axis=1))
         bench.check("share of normals with |cos| <= 1 - 1e-6 against open3d", np.mean(agreement <= 1 - 1e-6), 1e-3)
 
-    bench = Benchmark("points", f"kNN of every point, {label} points, k=16", repeats=3)
+    bench = Benchmark("points", f"kNN of every point, {label} points, k=16", repeats=5)
     bench.time("meshsmith", lambda: mp.knn(P, 16))
     bench.time("meshsmith KdTree build", lambda: mp.KdTree(P))
     bench.time("scipy cKDTree build+query (workers=-1)", lambda: cKDTree(P).query(P, 17, workers=-1))
@@ -91,7 +91,7 @@ def main() -> None:
     m = size(100_000, 10_000)
     Q = noisy_sphere(m, seed=1)
     N = mp.estimate_normals(Q, k=15)
-    bench = Benchmark("points", f"orient_normals, {m // 1000}k points, k=16", repeats=3)
+    bench = Benchmark("points", f"orient_normals, {m // 1000}k points, k=16", repeats=5)
     bench.time("meshsmith", lambda: mp.orient_normals(Q, N, k=16))
     if o3d is not None:
         bench.time("open3d consistent_tangent_plane", lambda: open3d_oriented(Q, N))

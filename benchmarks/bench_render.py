@@ -31,7 +31,7 @@ def main():
         png = Path(folder) / "picture.png"
         for subdivisions in size((6, 7, 8), (5,)):
             V, F = datasets.icosphere(subdivisions)
-            bench = Benchmark("render", f"800x600 picture, {len(F):,}-face sphere", repeats=3,
+            bench = Benchmark("render", f"800x600 picture, {len(F):,}-face sphere", repeats=5,
                               reference="meshsmith render() + PNG")
             bench.time("meshsmith render() + PNG", lambda: render.render(V, F, png))
             bench.time("meshsmith render() + PNG, wireframe", lambda: render.render(V, F, png, wireframe=True))

@@ -97,7 +97,7 @@ def main() -> None:
     rng = np.random.default_rng(0)
     n = size(1_000_000, 50_000)
     P = rng.random((n, 2))
-    bench = Benchmark("tessellation", f"2D Delaunay, {n:,} uniform random points", repeats=3)
+    bench = Benchmark("tessellation", f"2D Delaunay, {n:,} uniform random points", repeats=5)
     bench.time("meshsmith", lambda: delaunay(P))
     bench.time("scipy.spatial.Delaunay", lambda: ScipyDelaunay(P))
     if triangle is not None:
@@ -123,7 +123,7 @@ def main() -> None:
     points = np.vstack([boundary, interior])
     segments = np.column_stack([np.arange(k), (np.arange(k) + 1) % k])
     bench = Benchmark("tessellation", f"constrained Delaunay, {k // 1000}k-edge polygon + {m // 1000}k points",
-                      repeats=3)
+                      repeats=5)
     bench.time("meshsmith", lambda: constrained_delaunay(points, segments))
     if triangle is not None:
         bench.time("triangle", lambda: triangle.triangulate({"vertices": points, "segments": segments}, "pQ"))
@@ -134,7 +134,7 @@ def main() -> None:
 
     P_e, segments_e, _ = refinement_domains()["letter E"]
     max_area = size(1e-4, 1e-3)
-    bench = Benchmark("tessellation", f"refine letter E, min angle 30, max area {max_area:g}", repeats=3)
+    bench = Benchmark("tessellation", f"refine letter E, min angle 30, max area {max_area:g}", repeats=5)
     bench.time("meshsmith", lambda: refine(P_e, segments_e, min_angle=30.0, max_area=max_area))
     if triangle is not None:
         bench.time("triangle", lambda: triangle_refine(P_e, segments_e, None, 30.0, max_area))

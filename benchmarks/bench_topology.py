@@ -63,7 +63,7 @@ def main():
     V, F = datasets.icosphere(size(8, 6))
     label = f"icosphere({size(8, 6)}): {len(V):,} V, {len(F):,} F"
 
-    bench = Benchmark("topology", f"unique edges, {label}", repeats=3)
+    bench = Benchmark("topology", f"unique edges, {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.edges(F))
     if igl:
         bench.time("libigl edges", lambda: igl.edges(F))
@@ -72,7 +72,7 @@ def main():
     if igl:
         bench.check("edges differing from libigl's", differing_simplices(topology.edges(F), igl.edges(F)), 0)
 
-    bench = Benchmark("topology", f"vertex-connected components (face and vertex labels), {label}", repeats=3)
+    bench = Benchmark("topology", f"vertex-connected components (face and vertex labels), {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.connected_components(F))
     if igl:
         bench.time("libigl vertex_components", lambda: (lambda c: (c, c[F[:, 0]]))(igl.vertex_components(F)))
@@ -88,7 +88,7 @@ def main():
                     int(not same_partition(components.vertex_labels, igl.vertex_components(F))), 0)
 
     if igl:
-        bench = Benchmark("topology", f"edge-connected components (face labels), {label}", repeats=3)
+        bench = Benchmark("topology", f"edge-connected components (face labels), {label}", repeats=5)
         bench.time("meshsmith", lambda: topology.connected_components(F, connectivity="edge"))
         bench.time("libigl facet_components", lambda: igl.facet_components(F))
         bench.report()
@@ -96,7 +96,7 @@ def main():
                     int(not same_partition(topology.connected_components(F, connectivity="edge").face_labels,
                                            igl.facet_components(F)[1])), 0)
 
-    bench = Benchmark("topology", f"Euler characteristic, {label}", repeats=3)
+    bench = Benchmark("topology", f"Euler characteristic, {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.euler_characteristic(F))
     if igl:
         bench.time("libigl euler_characteristic", lambda: igl.euler_characteristic(F))
@@ -104,7 +104,7 @@ def main():
     if igl:
         bench.check("|χ - libigl's χ|", abs(topology.euler_characteristic(F) - igl.euler_characteristic(F)), 0)
 
-    bench = Benchmark("topology", f"manifold check (edges + vertices), {label}", repeats=3)
+    bench = Benchmark("topology", f"manifold check (edges + vertices), {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.is_manifold(F))
     if igl:
         bench.time("libigl is_edge_manifold+is_vertex_manifold",
@@ -114,7 +114,7 @@ def main():
         igl_manifold = bool(igl.is_edge_manifold(F)[0]) and bool(np.all(igl.is_vertex_manifold(F)))
         bench.check("manifoldness differing from libigl's", int(topology.is_manifold(F) != igl_manifold), 0)
 
-    bench = Benchmark("topology", f"info (all counts, area, volume), {label}", repeats=3)
+    bench = Benchmark("topology", f"info (all counts, area, volume), {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.info(V, F))
     if trimesh:
         def trimesh_summary():
@@ -132,7 +132,7 @@ def main():
                     max(relative_difference(summary.surface_area, mesh.area),
                         relative_difference(summary.volume, mesh.volume)), 1e-10)
 
-    bench = Benchmark("topology", f"face areas, {label}", repeats=3)
+    bench = Benchmark("topology", f"face areas, {label}", repeats=5)
     bench.time("meshsmith", lambda: geometry.face_areas(V, F))
     if igl:
         bench.time("libigl doublearea/2", lambda: igl.doublearea(V, F) / 2)
@@ -141,7 +141,7 @@ def main():
         bench.check("face areas vs libigl, max relative",
                     relative_difference(geometry.face_areas(V, F), igl.doublearea(V, F) / 2), 1e-12)
 
-    bench = Benchmark("topology", f"signed volume, {label}", repeats=3)
+    bench = Benchmark("topology", f"signed volume, {label}", repeats=5)
     bench.time("meshsmith", lambda: geometry.volume(V, F))
     if trimesh:
         bench.time("trimesh Trimesh(V, F).volume", lambda: trimesh.Trimesh(V, F, process=False).volume)
@@ -153,7 +153,7 @@ def main():
     n = size(810, 200)
     for name, (Vg, Fg) in [(f"grid({n}, {n})", datasets.grid(n, n)),
                            (f"grid({n}, {n}) with 400 holes", grid_with_holes(n))]:
-        bench = Benchmark("topology", f"boundary loops, {name}: {len(Fg):,} F", repeats=3)
+        bench = Benchmark("topology", f"boundary loops, {name}: {len(Fg):,} F", repeats=5)
         bench.time("meshsmith", lambda: topology.boundary_loops(Fg))
         if igl:
             bench.time("libigl boundary_loop_all", lambda: igl.boundary_loop_all(Fg))
@@ -163,7 +163,7 @@ def main():
             ours, theirs = loop_sets(topology.boundary_loops(Fg)), loop_sets(igl.boundary_loop_all(Fg))
             bench.check("boundary loops differing from libigl's (as vertex sets)", len(ours ^ theirs), 0)
 
-    bench = Benchmark("topology", f"split non-manifold vertices, {label}", repeats=3)
+    bench = Benchmark("topology", f"split non-manifold vertices, {label}", repeats=5)
     bench.time("meshsmith", lambda: topology.split_non_manifold_vertices(V, F))
     if igl:
         def igl_split():  # the same outputs as meshsmith's: positions, faces, origin of each vertex

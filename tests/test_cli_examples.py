@@ -3,6 +3,8 @@ generated inputs and write valid outputs; the bad-usage cases of issue 14 print 
 traceback, with the right exit status; Ctrl-C stops a long ABF within a second."""
 import json
 import os
+import pty
+import select
 import shlex
 import signal
 import subprocess
@@ -241,20 +243,36 @@ def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
     V, F = datasets.icosphere(6)              # 81,920 faces: plain ABF runs for many seconds
     path = tmp_path / "sphere.off"
     io.write_mesh(path, V, F)
+    # stderr on a pseudo-terminal, so the bar draws: Ctrl-C is sent once the bar shows ABF's chart
+    # (past start-up and reading, however slow a loaded machine is), then 1 s later: inside the Newton steps.
+    leader, follower = pty.openpty()
     child = subprocess.Popen([sys.executable, "-m", "meshsmith", "parametrize", str(path), "--method", "abf",
-                              "-o", str(tmp_path / "uv.obj")], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True, preexec_fn=_default_sigint)
-    time.sleep(2.0)                           # past start-up and reading: inside the cut or the Newton steps
-    assert child.poll() is None, child.communicate()
-    child.send_signal(signal.SIGINT)
-    sent = time.perf_counter()
+                              "-o", str(tmp_path / "uv.obj")], stdout=subprocess.PIPE, stderr=follower,
+                             preexec_fn=_default_sigint)
+    os.close(follower)
+    shown = b""
     try:
-        _, stderr = child.communicate(timeout=10)
+        deadline = time.monotonic() + 60
+        while b"abf: chart" not in shown and time.monotonic() < deadline and child.poll() is None:
+            if select.select([leader], [], [], 0.1)[0]:
+                shown += os.read(leader, 4096)
+        assert b"abf: chart" in shown, shown
+        time.sleep(1.0)
+        assert child.poll() is None, shown
+        child.send_signal(signal.SIGINT)
+        sent = time.perf_counter()
+        child.wait(timeout=10)
+        elapsed = time.perf_counter() - sent
+        while select.select([leader], [], [], 0.2)[0]:
+            try:
+                shown += os.read(leader, 4096)
+            except OSError:                    # the terminal closed with the child
+                break
     finally:
         child.kill()
-    elapsed = time.perf_counter() - sent
-    assert child.returncode == 130, stderr
-    assert stderr.strip().splitlines() == ["meshsmith: interrupted"]
+        os.close(leader)
+    lines = shown.decode().replace("\r\n", "\n").split("\n")
+    assert child.returncode == 130 and lines[-2:] == ["meshsmith: interrupted", ""], shown
     assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s"
 
 
