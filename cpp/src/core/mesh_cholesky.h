@@ -85,12 +85,14 @@ class MeshCholesky : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<Scal
 ///   140–190 ms; METIS orders best (2.1·10⁸ flops) but itself takes 190 ms.
 /// - the reduced ABF++ system (one unknown per interior-vertex condition, wider stencil):
 ///   simplicial METIS 1.0 s, simplicial AMD 2.4 s, supernodal AMD 3.0 s (reference BLAS).
-/// - systems factorized once and solved many times (deformation's k-harmonic and ARAP systems,
-///   solved by SupernodalSolve): supernodal, METIS ordering, CHOLMOD's default amalgamation
-///   {4, 16, 48}. A solve streams the stored factor, so its size is what counts: on the order-2
-///   free block of the 100k-vertex torus (80k unknowns) METIS gives nnz(L) 10.65M (12.9M stored)
-///   against AMD's 14.2M, in a factorization of 0.9 s of CPU time against 1.1 s (3.6·10⁹ flops
-///   against 8.1·10⁹); {8, 32, 64} would store 13.9M.
+/// - large systems factorized once and solved many times (deformation's k-harmonic and ARAP
+///   systems, solved by SupernodalSolve): supernodal, METIS ordering, CHOLMOD's default
+///   amalgamation {4, 16, 48}. A solve streams the stored factor, so its size is what counts: on
+///   the order-2 free block of the 100k-vertex torus (80k unknowns) METIS gives nnz(L) 10.65M
+///   (12.9M stored) against AMD's 14.2M, for 3.6·10⁹ factorization flops against 8.1·10⁹ (order
+///   1: 3.3M against 4.25M); {8, 32, 64} would store 13.9M. On smaller systems METIS's ordering
+///   costs more than it saves: nefertiti-lowres's order-2 block (28k unknowns) stores 3.2M
+///   entries against AMD's 3.7M, for a factorization of 0.29 s of CPU time against 0.11 s.
 enum class CholeskyKind {
   vertex_laplacian,          ///< supernodal, AMD ordering
   vertex_laplacian_solves,   ///< supernodal, METIS ordering, default amalgamation (many solves)

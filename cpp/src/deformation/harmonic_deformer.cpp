@@ -2,7 +2,8 @@
 //
 // The operator is assembled as libigl's igl::harmonic does (Q = −L, then Q ← Q M⁻¹ (−L) k−1
 // times), so solutions agree with it to round-off. Only the free block Q_FF is factorized, as
-// its lower triangle in CSC (CHOLMOD reads that), by CHOLMOD's supernodal LLᵀ with METIS through
+// its lower triangle in CSC (CHOLMOD reads that), by CHOLMOD's supernodal LLᵀ (AMD, or METIS
+// from 50k free vertices on, where its smaller factor pays for its ordering) through
 // the core's MeshCholesky (its thread limits: ../core/mesh_cholesky.h), and solved by the core's
 // SupernodalSolve (two threads, all right-hand-side columns in one pass over the factor:
 // ../core/supernodal_solve.h); the coupling block Q_FC
@@ -31,6 +32,9 @@
 namespace meshsmith::deformation {
 
 namespace {
+
+/// Free blocks from this size on are ordered by METIS, smaller ones by AMD (mesh_cholesky.h).
+constexpr Eigen::Index kMetisUnknowns = 50000;
 
 void check_order(int order, const char* function) {
   if (order < 1 || order > 3) {
@@ -138,13 +142,16 @@ KHarmonicSolver::KHarmonicSolver(const VertexRef& V, const FaceRef& F, const std
   factorization_->coupling.setFromTriplets(coupling.begin(), coupling.end());
 
   auto& cholesky = factorization_->cholesky;
-  // Supernodal with METIS (mesh_cholesky.h: the smallest stored factor, which is what a solve
-  // streams) for every order, solved by SupernodalSolve on two threads. Measured here on the
-  // 100k-vertex torus (80k free vertices, 3 right-hand sides, CPU time on a loaded machine):
-  // order 2, 24 ms per thread (47 ms in all) against 38 ms for cholmod_solve on the same factor;
-  // order 1 (ARAP's global step), 13 ms per thread against 23 ms, and 16 ms for the simplicial
-  // AMD factor used before.
-  meshsmith::detail::configure_cholesky(cholesky, meshsmith::detail::CholeskyKind::vertex_laplacian_solves);
+  // Supernodal for every order, solved by SupernodalSolve on two threads; ordered by METIS from
+  // kMetisUnknowns free vertices on (the smaller stored factor, which is what a solve streams;
+  // below, METIS's ordering costs more than the solves save: mesh_cholesky.h), by AMD below.
+  // Measured here on the 100k-vertex torus (80k free vertices, 3 right-hand sides, CPU time on a
+  // loaded machine): order 2, 24 ms per thread (47 ms in all) against 38 ms for cholmod_solve on
+  // the same factor; order 1 (ARAP's global step), 13 ms per thread against 23 ms, and 16 ms for
+  // the simplicial AMD factor used before.
+  meshsmith::detail::configure_cholesky(cholesky, n_free >= kMetisUnknowns
+                                                      ? meshsmith::detail::CholeskyKind::vertex_laplacian_solves
+                                                      : meshsmith::detail::CholeskyKind::vertex_laplacian);
   cholesky.compute(block);
   if (cholesky.info() != Eigen::Success) {
     throw SolverError(std::string(function) + ": the " + system + " restricted to the " + std::to_string(n_free) +

@@ -27,7 +27,8 @@ namespace meshsmith::deformation {
 Eigen::SparseMatrix<double> k_harmonic_operator(const VertexRef& V, const FaceRef& F, int order);
 
 /// A precomputed solve of Q X = 0 at the free vertices with X given at the constrained ones: the
-/// free block Q_FF factorized once (CHOLMOD, supernodal LLᵀ, METIS order), so that solve() costs
+/// free block Q_FF factorized once (CHOLMOD, supernodal LLᵀ; AMD order, METIS from 50k free
+/// vertices on), so that solve() costs
 /// one sparse product for the right-hand side and one pair of triangular solves, all columns at
 /// once and on two threads, for any values at the constrained vertices.
 /// Free vertices: every vertex used by a face that is not constrained. Vertices used by no face
