@@ -2,8 +2,11 @@
 //
 // The operator is assembled as libigl's igl::harmonic does (Q = −L, then Q ← Q M⁻¹ (−L) k−1
 // times), so solutions agree with it to round-off. Only the free block Q_FF is factorized, as
-// its lower triangle in CSC (CHOLMOD reads that), by CHOLMOD's supernodal LLᵀ with AMD through
-// the core's MeshCholesky (its thread limits: ../core/mesh_cholesky.h); the coupling block Q_FC
+// its lower triangle in CSC (CHOLMOD reads that), by CHOLMOD's supernodal LLᵀ (AMD, or METIS
+// from 50k free vertices on, where its smaller factor pays for its ordering) through
+// the core's MeshCholesky (its thread limits: ../core/mesh_cholesky.h), and solved by the core's
+// SupernodalSolve (two threads, all right-hand-side columns in one pass over the factor:
+// ../core/supernodal_solve.h); the coupling block Q_FC
 // is kept to form right-hand sides −Q_FC X_C. A singular free block is ruled out before CHOLMOD
 // sees it: every component of the Laplacian's graph (edges of non-zero weight; vertices on
 // degenerate triangles only are isolated in it) must hold a constrained vertex.
@@ -15,6 +18,7 @@
 #include <meshsmith/deformation/multiresolution.h>
 
 #include "../core/mesh_cholesky.h"
+#include "../core/supernodal_solve.h"
 #include "vertex_sets.h"
 
 #include <meshsmith/core/errors.h>
@@ -23,12 +27,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <string>
 
 namespace meshsmith::deformation {
 
 namespace {
+
+/// Free blocks from this size on are ordered by METIS, smaller ones by AMD (mesh_cholesky.h).
+constexpr Eigen::Index kMetisUnknowns = 50000;
 
 void check_order(int order, const char* function) {
   if (order < 1 || order > 3) {
@@ -65,9 +71,9 @@ Eigen::SparseMatrix<double> k_harmonic_operator(const VertexRef& V, const FaceRe
 
 struct KHarmonicSolver::Factorization {
   meshsmith::detail::MeshCholesky<double> cholesky;
-  /// CHOLMOD's solve works in the factorization's cholmod_common: one solve at a time, so that
-  /// Python threads (the bindings release the GIL) may share a Deformer.
-  std::mutex solving;
+  /// The substitutions on cholesky's factor: reentrant (no cholmod_common involved), so Python
+  /// threads (the bindings release the GIL) may share a Deformer.
+  meshsmith::detail::SupernodalSolve substitution;
   Eigen::SparseMatrix<double> coupling;  ///< Q_FC: #free×#constrained
 };
 
@@ -136,21 +142,23 @@ KHarmonicSolver::KHarmonicSolver(const VertexRef& V, const FaceRef& F, const std
   factorization_->coupling.setFromTriplets(coupling.begin(), coupling.end());
 
   auto& cholesky = factorization_->cholesky;
-  meshsmith::detail::configure_cholesky(cholesky, meshsmith::detail::CholeskyKind::vertex_laplacian);
-  // Order 1 (the Laplacian, ARAP's global step): a simplicial factor, whose 3-column solves skip
-  // BLAS's packing of thin panels. Measured here (CPU time, nefertiti-lowres, 28k free vertices):
-  // one ARAP iteration 13.4 ms against 16.8 ms with the supernodal factor (torus of 100k: 37 ms
-  // against 41 ms), for a factorization twice as slow (0.43 s against 0.19 s on the torus).
-  // Orders 2 and 3 (wider stencils) stay supernodal: simplicial solves were no faster there and
-  // factorizations 8x slower; METIS instead of AMD saved 15% of a solve for 1.6x the
-  // factorization time.
-  if (order == 1) cholesky.setMode(Eigen::CholmodSimplicialLLt);
+  // Supernodal for every order, solved by SupernodalSolve on two threads; ordered by METIS from
+  // kMetisUnknowns free vertices on (the smaller stored factor, which is what a solve streams;
+  // below, METIS's ordering costs more than the solves save: mesh_cholesky.h), by AMD below.
+  // Measured here on the 100k-vertex torus (80k free vertices, 3 right-hand sides, CPU time on a
+  // loaded machine): order 2, 24 ms per thread (47 ms in all) against 38 ms for cholmod_solve on
+  // the same factor; order 1 (ARAP's global step), 13 ms per thread against 23 ms, and 16 ms for
+  // the simplicial AMD factor used before.
+  meshsmith::detail::configure_cholesky(cholesky, n_free >= kMetisUnknowns
+                                                      ? meshsmith::detail::CholeskyKind::vertex_laplacian_solves
+                                                      : meshsmith::detail::CholeskyKind::vertex_laplacian);
   cholesky.compute(block);
   if (cholesky.info() != Eigen::Success) {
     throw SolverError(std::string(function) + ": the " + system + " restricted to the " + std::to_string(n_free) +
                       " free vertices is not positive definite (negative cotangent weights of obtuse triangles "
                       "can make orders 1 and 3 indefinite; order 2 is always semi-definite)");
   }
+  factorization_->substitution = meshsmith::detail::SupernodalSolve(*cholesky.factor());
 }
 
 namespace {
@@ -199,16 +207,8 @@ Eigen::MatrixXd KHarmonicSolver::solve_free_impl(const Eigen::Ref<const Eigen::M
   if (n_free == 0 || columns == 0) return Eigen::MatrixXd::Zero(n_free, columns);
   Eigen::MatrixXd rhs = -(factorization_->coupling * constrained_values);
   if (free_rhs) rhs += *free_rhs;
-  Eigen::MatrixXd solution;
-  bool solved = false;
-  {
-    const std::lock_guard<std::mutex> one_solve(factorization_->solving);
-    const meshsmith::detail::SingleThreadedBlas one_blas_thread;
-    const meshsmith::detail::SingleThreadedOpenMp one_thread;
-    solution = factorization_->cholesky.solve(rhs);
-    solved = factorization_->cholesky.info() == Eigen::Success;
-  }
-  if (!solved || !solution.allFinite()) {
+  const Eigen::MatrixXd solution = factorization_->substitution.solve(rhs);
+  if (!solution.allFinite()) {
     throw SolverError(std::string(function) + ": the back-substitution produced non-finite values");
   }
   return solution;

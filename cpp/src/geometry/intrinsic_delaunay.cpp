@@ -12,6 +12,25 @@
 // edge lowers the Dirichlet energy of every piecewise-linear function, so the loop ends; a cap of
 // 100·#E + 10⁶ flips turns a floating-point cycle (never seen) into a SolverError.
 //
+// Boundary. A boundary edge has one cotangent, negative when its opposite angle is obtuse, and
+// no flip reaches it. Such an edge ab of triangle (c, a, b) is split intrinsically at the foot h
+// of the altitude from c (strictly inside ab, as the angles at a and b are acute): the halves
+// (c, a, h) and (c, h, b) are right-angled at h, so ah and hb get the positive cotangents of
+// the angles at c, and the new edge ch those of the acute angles at a and b; flips then restore
+// the Delaunay property (a refinement in the manner of Sharp & Crane 2020, whose insertions are
+// circumcentres and segment midpoints; the altitude foot needs one split per edge and no
+// cascade at sharp boundary corners). The Laplacian of the refined triangulation, on the
+// original and the inserted vertices, has only non-negative weights. Each inserted vertex h (on
+// edge ab at (1 − t) a + t b) is then lumped onto a and b: its value is taken as the linear
+// interpolant (1 − t) f_a + t f_b, and every weight w of an edge hj goes to ja and jb in the
+// proportions 1 − t and t (to ab as t² w and (1 − t)² w for j = a, b) — the exact restriction of
+// the energy minus the terms w t(1 − t)(f_a − f_b)², which are what make the plain weight of ab
+// negative. The result is #V×#V with non-negative weights, symmetric, rows summing to zero,
+// negative semi-definite; every interior vertex keeps linear precision (its row gets
+// w (x_h − x_j) = w [(1 − t)(x_a − x_j) + t (x_b − x_j)] exactly), and the energy bounds that
+// of the interpolated function on the refined triangulation from above. Where no boundary edge
+// is split it equals the unrefined intrinsic Delaunay Laplacian (and libigl's) exactly.
+//
 // Numbers. Lengths are measured on the normalized coordinates (core/normalization.h) by a
 // stable norm, and every triangle's quantities are computed on its lengths divided by its
 // longest one, so slivers and meshes of size 1e±300 give finite cotangents. Areas use Kahan's
@@ -29,6 +48,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -42,6 +62,8 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 /// A weight counts as negative below −kFlipTolerance·(1 + |cot α| + |cot β|): co-circular quads
 /// (a regular grid's diagonals) have weights of ±1e-16 that flipping would only shuffle.
 constexpr double kFlipTolerance = 1e-12;
+/// Rounds of boundary refinement (refine_boundary); one suffices on every shared mesh.
+constexpr int kRefinementRounds = 8;
 
 /// |p − q| without overflow or underflow of the squares.
 double distance(const double* p, const double* q) {
@@ -85,9 +107,16 @@ TriangleCotangents cotangents(double a, double b, double c) {
   return result;
 }
 
+/// Where a boundary vertex was inserted: on edge ab, at (1 − t) a + t b along it.
+struct Split {
+  int a, b;
+  double t;
+};
+
 class IntrinsicTriangulation {
  public:
-  IntrinsicTriangulation(const VertexMatrix& V, const FaceMatrix& F) : faces_(F), face_edges_(F.rows(), 3) {
+  IntrinsicTriangulation(const VertexMatrix& V, const FaceMatrix& F)
+      : faces_(F), face_edges_(F.rows(), 3), vertices_(static_cast<int>(V.rows())) {
     const topology::EdgeIncidence incidence = topology::edge_incidence(F, V.rows());
     const Eigen::Index n_edges = incidence.n_edges();
     length_.resize(n_edges);
@@ -121,12 +150,79 @@ class IntrinsicTriangulation {
 
   /// Flips every interior edge with a negative cot weight until none is left.
   void make_delaunay() {
+    std::vector<int> edges;
+    for (Eigen::Index e = static_cast<Eigen::Index>(length_.size()) - 1; e >= 0; --e) edges.push_back(static_cast<int>(e));
+    flip_from(edges);
+  }
+
+  /// Splits every boundary edge whose opposite angle is obtuse (its one cot weight negative) at
+  /// the foot of the altitude from the opposite corner, then restores the Delaunay property by
+  /// flips; repeated (at most `rounds` times) while such edges are left. The two halves of the
+  /// triangle are right-angled at the foot, so the split edge's halves get the positive
+  /// cotangents of the acute angles at the opposite corner. Returns the number of vertices
+  /// inserted (numbered from the original vertex count on).
+  int refine_boundary(int rounds) {
+    int inserted = 0;
+    for (int round = 0; round < rounds; ++round) {
+      std::vector<int> obtuse;
+      for (std::size_t e = 0; e < length_.size(); ++e) {
+        if (sides_[e][1] < 0 && sides_[e][0] >= 0 && splittable(static_cast<int>(e))) obtuse.push_back(static_cast<int>(e));
+      }
+      if (obtuse.empty()) break;
+      const Eigen::Index faces = faces_.rows();
+      faces_.conservativeResize(faces + static_cast<Eigen::Index>(obtuse.size()), 3);
+      face_edges_.conservativeResize(faces_.rows(), 3);
+      std::vector<int> touched;
+      for (std::size_t k = 0; k < obtuse.size(); ++k) {
+        split(obtuse[k], static_cast<int>(faces + static_cast<Eigen::Index>(k)), &touched);
+        ++inserted;
+      }
+      flip_from(touched);
+    }
+    return inserted;
+  }
+
+  /// ½ cot of each corner's angle (#F×3), 0 for degenerate triangles, as cotan_laplacian's.
+  detail::CornerMatrix half_cotangents() const {
+    detail::CornerMatrix result(faces_.rows(), 3);
+    for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
+      const TriangleCotangents t = face_cotangents(static_cast<int>(f));
+      for (int c = 0; c < 3; ++c) result(f, c) = t.degenerate ? 0.0 : 0.5 * t.cot[c];
+    }
+    return result;
+  }
+
+  const FaceMatrix& faces() const { return faces_; }
+  /// The inserted vertices (numbered from the original vertex count on, in this order).
+  const std::vector<Split>& splits() const { return splits_; }
+
+  /// The per-face weights, with each edge's round-off negatives (|w| under the flip tolerance)
+  /// moved to zero: both halves of such an edge are shifted by the same amount.
+  void clamp_round_off(detail::CornerMatrix& half) const {
+    for (std::size_t e = 0; e < length_.size(); ++e) {
+      double weight = 0.0, magnitude = 0.0;
+      for (int k = 0; k < 2; ++k) {
+        if (sides_[e][k] < 0) continue;
+        const double w = half(sides_[e][k] / 3, sides_[e][k] % 3);
+        weight += w;
+        magnitude += std::abs(2.0 * w);
+      }
+      if (weight < 0.0 && weight >= -kFlipTolerance * (1.0 + magnitude)) {
+        const int count = sides_[e][1] >= 0 ? 2 : 1;
+        for (int k = 0; k < count; ++k) half(sides_[e][k] / 3, sides_[e][k] % 3) -= weight / count;
+      }
+    }
+  }
+
+ private:
+  /// The flip loop of make_delaunay from the given edges (boundary edges are skipped).
+  void flip_from(const std::vector<int>& edges) {
     const Eigen::Index n_edges = static_cast<Eigen::Index>(length_.size());
     std::vector<int> stack;
     std::vector<char> queued(n_edges, 0);
-    for (Eigen::Index e = n_edges - 1; e >= 0; --e) {
-      if (sides_[e][1] >= 0) {
-        stack.push_back(static_cast<int>(e));
+    for (int e : edges) {  // the last one is checked first
+      if (sides_[e][1] >= 0 && !queued[e]) {
+        stack.push_back(e);
         queued[e] = 1;
       }
     }
@@ -154,37 +250,50 @@ class IntrinsicTriangulation {
     }
   }
 
-  /// ½ cot of each corner's angle (#F×3), 0 for degenerate triangles, as cotan_laplacian's.
-  detail::CornerMatrix half_cotangents() const {
-    detail::CornerMatrix result(faces_.rows(), 3);
-    for (Eigen::Index f = 0; f < faces_.rows(); ++f) {
-      const TriangleCotangents t = face_cotangents(static_cast<int>(f));
-      for (int c = 0; c < 3; ++c) result(f, c) = t.degenerate ? 0.0 : 0.5 * t.cot[c];
-    }
-    return result;
+  /// Whether boundary edge e has a negative cot weight (beyond round-off) in a proper triangle,
+  /// so that the altitude's foot lies strictly inside it.
+  bool splittable(int e) const {
+    const int f = sides_[e][0] / 3, corner = sides_[e][0] % 3;
+    if (faces_(f, 0) == faces_(f, 1) || faces_(f, 1) == faces_(f, 2) || faces_(f, 2) == faces_(f, 0)) return false;
+    const TriangleCotangents t = face_cotangents(f);
+    if (t.degenerate) return false;
+    const double alpha = t.cot[corner];
+    return alpha < -kFlipTolerance * (1.0 + std::abs(alpha)) && t.cot[(corner + 1) % 3] > 0.0 &&
+           t.cot[(corner + 2) % 3] > 0.0;
   }
 
-  const FaceMatrix& faces() const { return faces_; }
-
-  /// The per-face weights, with each edge's round-off negatives (|w| under the flip tolerance)
-  /// moved to zero: both halves of such an edge are shifted by the same amount.
-  void clamp_round_off(detail::CornerMatrix& half) const {
-    for (std::size_t e = 0; e < length_.size(); ++e) {
-      double weight = 0.0, magnitude = 0.0;
-      for (int k = 0; k < 2; ++k) {
-        if (sides_[e][k] < 0) continue;
-        const double w = half(sides_[e][k] / 3, sides_[e][k] % 3);
-        weight += w;
-        magnitude += std::abs(2.0 * w);
-      }
-      if (weight < 0.0 && weight >= -kFlipTolerance * (1.0 + magnitude)) {
-        const int count = sides_[e][1] >= 0 ? 2 : 1;
-        for (int k = 0; k < count; ++k) half(sides_[e][k] / 3, sides_[e][k] % 3) -= weight / count;
-      }
-    }
+  /// Splits boundary edge e = ab of face f = (c, a, b) at the foot h of the altitude from c:
+  /// f ← (c, a, h), new face g ← (c, h, b); e becomes ah, new edges hb (boundary) and ch. The
+  /// edges that may now need a flip are appended to `touched`.
+  void split(int e, int g, std::vector<int>* touched) {
+    const int f = sides_[e][0] / 3, i = sides_[e][0] % 3;
+    const int c = faces_(f, i), a = faces_(f, (i + 1) % 3), b = faces_(f, (i + 2) % 3);
+    const int e_bc = face_edges_(f, (i + 1) % 3), e_ca = face_edges_(f, (i + 2) % 3);
+    const double ab = length_[e], ca = length_[e_ca], bc = length_[e_bc];
+    // |ah| = (ab² + ca² − bc²) / (2 ab), on lengths divided by ab.
+    const double x = ca / ab, y = bc / ab;
+    const double t = std::clamp(0.5 * (1.0 + (x - y) * (x + y)), 0.0, 1.0);
+    const double height = std::sqrt(std::max((x - t) * (x + t), 0.0));
+    const int h = vertices_++;
+    splits_.push_back({a, b, t});
+    const int e_hb = static_cast<int>(length_.size()), e_ch = e_hb + 1;
+    length_.push_back(ab * (1.0 - t));
+    length_.push_back(ab * height);
+    sides_.push_back({3 * g + 0, -1});
+    sides_.push_back({3 * f + 1, 3 * g + 2});
+    length_[e] = ab * t;
+    // f ← (c, a, h): corner 0 faces ah (e), corner 1 faces hc, corner 2 faces ca.
+    // g ← (c, h, b): corner 0 faces hb, corner 1 faces bc, corner 2 faces ch.
+    faces_.row(f) << c, a, h;
+    faces_.row(g) << c, h, b;
+    face_edges_.row(f) << e, e_ch, e_ca;
+    face_edges_.row(g) << e_hb, e_bc, e_ch;
+    sides_[e] = {3 * f + 0, -1};
+    move_side(e_ca, 3 * f + (i + 2) % 3, 3 * f + 2);
+    move_side(e_bc, 3 * f + (i + 1) % 3, 3 * g + 1);
+    touched->insert(touched->end(), {e_ca, e_bc, e_ch});
   }
 
- private:
   TriangleCotangents face_cotangents(int f) const {
     return cotangents(length_[face_edges_(f, 0)], length_[face_edges_(f, 1)], length_[face_edges_(f, 2)]);
   }
@@ -248,6 +357,8 @@ class IntrinsicTriangulation {
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> face_edges_;  // edge opposite each corner
   std::vector<double> length_;
   std::vector<std::array<int, 2>> sides_;  // 3·face + corner opposite the edge; −1: boundary
+  int vertices_ = 0;                       // original ones, then those inserted on the boundary
+  std::vector<Split> splits_;              // per inserted vertex, in the order of insertion
 };
 
 }  // namespace
@@ -266,25 +377,56 @@ Eigen::SparseMatrix<double> intrinsic_delaunay_cotan_laplacian(const VertexRef& 
   if (count == 0) return cotan_laplacian(input_V, F);  // every face degenerate: the zero Laplacian
   IntrinsicTriangulation triangulation(V, proper);
   triangulation.make_delaunay();
+  triangulation.refine_boundary(kRefinementRounds);
   detail::CornerMatrix half = triangulation.half_cotangents();
   triangulation.clamp_round_off(half);
   // Assembled edge by edge (not by assemble_laplacian): after flips a face may repeat a vertex
   // (an edge from a vertex to itself, whose term w·(x_i − x_i)² is zero and adds nothing).
+  // Edges at an inserted vertex are kept in its star until it is lumped onto its edge's ends.
   const FaceMatrix& faces = triangulation.faces();
-  const Eigen::Index n = V.rows();
+  const std::vector<Split>& splits = triangulation.splits();
+  const int n = static_cast<int>(V.rows());
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<std::size_t>(n + 12 * faces.rows()));
-  for (Eigen::Index i = 0; i < n; ++i) entries.emplace_back(static_cast<int>(i), static_cast<int>(i), 0.0);
+  for (int i = 0; i < n; ++i) entries.emplace_back(i, i, 0.0);
+  std::vector<std::map<int, double>> star(splits.size());
+  const auto add_edge = [&](int u, int v, double w) {
+    if (u == v || w == 0.0) return;
+    if (u >= n || v >= n) {
+      if (u >= n) star[u - n][v] += w;
+      if (v >= n) star[v - n][u] += w;
+      return;
+    }
+    entries.emplace_back(u, v, w);
+    entries.emplace_back(v, u, w);
+    entries.emplace_back(u, u, -w);
+    entries.emplace_back(v, v, -w);
+  };
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     for (int corner = 0; corner < 3; ++corner) {
-      const int u = faces(f, (corner + 1) % 3), v = faces(f, (corner + 2) % 3);
-      const double w = half(f, corner);
-      if (u == v || w == 0.0) continue;
-      entries.emplace_back(u, v, w);
-      entries.emplace_back(v, u, w);
-      entries.emplace_back(u, u, -w);
-      entries.emplace_back(v, v, -w);
+      add_edge(faces(f, (corner + 1) % 3), faces(f, (corner + 2) % 3), half(f, corner));
     }
+  }
+  // Lumping, the last inserted vertex first (its edge's ends a, b are original or inserted
+  // before it): with f_h = (1 − t) f_a + t f_b, a term w (f_j − f_h)² is
+  // w [(1 − t)(f_j − f_a)² + t (f_j − f_b)² − t(1 − t)(f_a − f_b)²]; the first two go to the
+  // edges ja and jb, the last (the one that makes the plain weight of ab negative) is dropped;
+  // w (f_a − f_h)² = w t² (f_a − f_b)² and w (f_b − f_h)² = w (1 − t)² (f_a − f_b)² go to ab.
+  for (int k = static_cast<int>(splits.size()) - 1; k >= 0; --k) {
+    const Split& split = splits[k];
+    const int h = n + k;
+    for (const auto& [j, w] : star[k]) {
+      if (j >= n) star[j - n].erase(h);
+      if (j == split.a) {
+        add_edge(split.a, split.b, split.t * split.t * w);
+      } else if (j == split.b) {
+        add_edge(split.a, split.b, (1.0 - split.t) * (1.0 - split.t) * w);
+      } else {
+        add_edge(split.a, j, (1.0 - split.t) * w);
+        add_edge(split.b, j, split.t * w);
+      }
+    }
+    star[k].clear();
   }
   Eigen::SparseMatrix<double> L(n, n);
   L.setFromTriplets(entries.begin(), entries.end());

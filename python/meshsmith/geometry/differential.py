@@ -90,11 +90,19 @@ def cotan_laplacian(V: ArrayLike, F: ArrayLike, *, intrinsic_delaunay: bool = Fa
     "Delaunay cot-weights"; Bobenko & Springborn 2007): every edge with a negative weight
     (alpha + beta > pi) is flipped intrinsically, on edge lengths only, until the triangulation
     is locally Delaunay; no vertex moves, but an entry may join two vertices that share no mesh
-    edge. Every weight of an interior edge is then >= 0 (weights within 1e-12 (1 + |cot alpha| +
-    |cot beta|) below zero, co-circular quads, are set to 0); a boundary edge keeps its single
-    cotangent, negative where its opposite angle is obtuse (no flip can change it). Equal to
-    ``igl.intrinsic_delaunay_cotmatrix`` to round-off, and to the plain cotan Laplacian on a mesh
-    that is already Delaunay. Needs an edge-manifold, consistently oriented mesh.
+    edge. A boundary edge has a single cotangent, negative where its opposite angle is obtuse, that
+    no flip changes: such an edge is split intrinsically at the foot of that angle's altitude (two
+    right triangles), and each inserted vertex is lumped back onto the edge's ends (its value
+    their linear interpolant, its weights shared between them in the same proportions, the cross
+    term that made the edge's weight negative dropped), so the matrix stays (n, n). Every
+    off-diagonal entry is then >= 0, on interior and boundary edges alike (weights within 1e-12
+    (1 + |cot alpha| + |cot beta|) below zero, co-circular quads, are set to 0); the matrix is
+    symmetric, its rows sum to zero, it is negative semi-definite. Equal to
+    ``igl.intrinsic_delaunay_cotmatrix`` to round-off where no boundary edge is split (libigl
+    keeps the negative boundary weights; near a split edge the entries differ), and to the plain
+    cotan Laplacian on a mesh that is already Delaunay with no obtuse angle opposite a boundary
+    edge. Linear precision holds at every interior vertex. Needs an edge-manifold, consistently
+    oriented mesh.
 
     Raises InputError for bad (V, F), or with intrinsic_delaunay for an edge with more than two
     faces or two faces that traverse an edge in the same direction.

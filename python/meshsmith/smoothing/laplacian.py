@@ -50,7 +50,7 @@ def laplacian(V: ArrayLike, F: ArrayLike, *, weights: str = "uniform", lam: floa
     V: (n, 3) float array. F: (m, 3) int array. weights: ``"uniform"`` (default), ``"cotan"``
     (cot alpha + cot beta: linear precision, may be negative), ``"cotan_delaunay"`` (the cot
     weights of the intrinsic Delaunay triangulation, :func:`meshsmith.geometry.cotan_laplacian`
-    with ``intrinsic_delaunay=True``: non-negative inside the mesh) or ``"mean_value"``. lam: the
+    with ``intrinsic_delaunay=True``: non-negative on every edge) or ``"mean_value"``. lam: the
     step size, > 0. iterations: >= 0. direction: ``"full"``, ``"normal"`` (each step's
     displacement projected onto the current angle-weighted vertex normal: noise removal without
     moving vertices along the surface) or ``"tangential"`` (its tangential part: vertex

@@ -30,17 +30,25 @@ Eigen::SparseMatrix<double> cotan_laplacian(const VertexRef& V, const FaceRef& F
 /// the mesh's metric. Edges whose cot weight is negative (α_ij + β_ij > π) are flipped
 /// intrinsically, on edge lengths only (the vertices and the surface's shape do not change), until
 /// every edge is locally Delaunay; the Laplacian is assembled from the flipped triangulation, so
-/// an intrinsic edge may join two vertices that share no mesh edge. Every off-diagonal entry is
-/// ≥ 0 (weights within 1e-12·(1 + |cot α| + |cot β|) below zero, co-circular quads, are taken as
-/// 0), symmetric, negative semi-definite; equals cotan_laplacian on a mesh that is already
-/// Delaunay and libigl's intrinsic_delaunay_cotmatrix to round-off.
+/// an intrinsic edge may join two vertices that share no mesh edge. A boundary edge whose one
+/// opposite angle is obtuse (which no flip changes) is split intrinsically at the foot of that
+/// angle's altitude (two right triangles), and each inserted vertex is lumped back onto the
+/// split edge's ends (its value their linear interpolant, its weights shared between them in the
+/// same proportions, the cross term that made the edge's weight negative dropped), so the
+/// result stays #V×#V. Every off-diagonal entry is ≥ 0, interior and boundary (weights within
+/// 1e-12·(1 + |cot α| + |cot β|) below zero, co-circular quads, are taken as 0); symmetric, rows
+/// summing to zero, negative semi-definite; linear precision at every interior vertex (L·f = 0
+/// there on a planar mesh for f linear). Equals cotan_laplacian on a mesh that is already
+/// Delaunay with no obtuse angle opposite a boundary edge, and libigl's
+/// intrinsic_delaunay_cotmatrix to round-off away from split edges (libigl keeps their negative
+/// weights).
 /// V: #V×3, F: #F×3. Returns #V×#V, the same pattern conventions as cotan_laplacian. Degenerate
-/// triangles (a zero-length edge) contribute nothing and their edges are not flipped.
+/// triangles (a zero-length edge) contribute nothing and their edges are not flipped or split.
 /// \pre the mesh is edge-manifold and consistently oriented (every interior edge has two faces
 ///      that traverse it in opposite directions).
-/// 	hrow InputError as cotan_laplacian, or naming an edge with more than two faces or an
+/// \throw InputError as cotan_laplacian, or naming an edge with more than two faces or an
 ///        inconsistently oriented one; SolverError if the flips do not terminate (never seen).
-/// Complexity: O(#F + flips); a flip is O(1).
+/// Complexity: O(#F + flips + splits); a flip or split is O(1), the elimination O(splits).
 Eigen::SparseMatrix<double> intrinsic_delaunay_cotan_laplacian(const VertexRef& V, const FaceRef& F);
 
 /// Graph (uniform-weight) Laplacian (§3.0.2 uniform weights): L_ij = 1 for every edge ij,

@@ -22,7 +22,7 @@ enum class SmoothingWeights {
   uniform,         ///< w_ij = 1 (geometry::uniform_laplacian): locality, symmetric, positive
   cotan,           ///< cot α_ij + cot β_ij (geometry::cotan_laplacian): linear precision, may be negative
   cotan_delaunay,  ///< cot weights of the intrinsic Delaunay triangulation
-                   ///< (geometry::intrinsic_delaunay_cotan_laplacian): linear precision, ≥ 0 inside
+                   ///< (geometry::intrinsic_delaunay_cotan_laplacian): linear precision, ≥ 0 everywhere
   mean_value,      ///< Floater's mean-value weights (geometry::mean_value_laplacian): positive,
                    ///< linear precision, not symmetric
 };
