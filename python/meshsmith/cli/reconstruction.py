@@ -45,7 +45,7 @@ def command_reconstruct(args: argparse.Namespace) -> int:
         V, F = mesh.V, mesh.F
         if args.trim:
             V, F, _ = reconstruction.trim_by_density(V, F, mesh.density, quantile=args.trim)
-        detail = f"depth {args.depth}"
+        detail = f"depth {args.depth}, surface extracted at depth {mesh.extraction_depth}"
     elif args.method == "sdf":
         V, F = tangent_plane_surface(P, oriented_normals(P, N, args.k, progress), args.resolution, progress)
         detail = f"resolution {args.resolution}"
