@@ -52,8 +52,9 @@ def test_bunny_point_cloud_reconstructs_near_the_ground_truth(data_dir):
     diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     mean = geometry.mean_surface_distance(mesh.V, mesh.F, V, F) / diagonal
     hausdorff = geometry.hausdorff_distance(mesh.V, mesh.F, V, F) / diagonal
-    # The benchmark quotes them beside the peers' (measured: Open3D and pymeshlab 1.5e-4 / 4.2e-3).
-    assert mean < 1.5e-4 and hausdorff < 5e-3, (mean, hausdorff)
+    # The benchmark quotes them beside the peers' (measured: Open3D 1.30e-4 / 4.2e-3 at point_weight
+    # 4, 1.27e-4 / 4.7e-3 at 8; pymeshlab 1.51e-4 / 4.1e-3 at 4; ours 1.27e-4 / 4.0e-3).
+    assert mean < 1.3e-4 and hausdorff < 4.5e-3, (mean, hausdorff)
     # Most of the 35k samples are too sparse for depth 8: the surface is extracted at depth 7, at
     # the size of the peers' meshes (measured at depth 8: Open3D 46968 vertices, pymeshlab 46817).
     assert mesh.extraction_depth == 7 and mesh.level_depths.tolist() == [4, 5, 6, 7]

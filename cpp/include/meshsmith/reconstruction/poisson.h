@@ -38,7 +38,8 @@ namespace meshsmith::reconstruction {
 /// Options of poisson().
 struct PoissonOptions {
   int depth = 8;                  ///< finest level: 2^depth cells along the bounding cube's edge, in [2, 10]
-  double screening = 4.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0)
+  double screening = 8.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0;
+                                  ///< not PoissonRecon's point-weight scale: see poisson.py)
   double samples_per_node = 1.5;  ///< samples a node's support must hold for a sample to be splatted at its level (> 0)
   double scale = 1.1;             ///< bounding cube edge ÷ the samples' largest extent (>= 1)
   int coarse_depth = 4;           ///< the level solved on the full grid (clamped to [2, depth])
