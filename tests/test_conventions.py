@@ -276,7 +276,7 @@ RESULTS = {
                                    ["points", "shape", "origin", "spacing"]),
     "reconstruction.poisson": (lambda tmp: meshsmith.reconstruction.poisson(*datasets.sphere_points(300), depth=4),
                                ["V", "F", "density", "iso", "level_depths", "level_unknowns", "level_iterations",
-                                "level_residuals"]),
+                                "level_residuals", "extraction_depth"]),
     "reconstruction.trim_by_density": (
         lambda tmp: meshsmith.reconstruction.trim_by_density(*datasets.icosphere(1), np.arange(42.0)),
         ["V", "F", "vertex_map"]),

@@ -31,8 +31,8 @@ def test_sphere_samples_reconstruct_a_closed_sphere():
     h = 1.1 * 2 / 2 ** 6
     assert np.abs(radii - 1).max() < 0.5 * h          # measured: about 0.2 h
     assert abs(np.median(radii) - 1) < 0.05 * h
-    assert mesh.level_depths.tolist() == [5, 6]
-    assert np.all(mesh.level_residuals < 1e-4)  # the default tolerance
+    assert mesh.level_depths.tolist() == [4, 5, 6]
+    assert np.all(mesh.level_residuals < 1e-3)  # the default tolerance
 
 
 def test_torus_samples_reconstruct_a_genus_one_surface():
@@ -52,7 +52,33 @@ def test_bunny_point_cloud_reconstructs_near_the_ground_truth(data_dir):
     diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     mean = geometry.mean_surface_distance(mesh.V, mesh.F, V, F) / diagonal
     hausdorff = geometry.hausdorff_distance(mesh.V, mesh.F, V, F) / diagonal
-    assert mean < 1e-3 and hausdorff < 1e-2, (mean, hausdorff)  # the benchmark quotes them beside the peers'
+    # The benchmark quotes them beside the peers' (measured: Open3D 1.30e-4 / 4.2e-3 at point_weight
+    # 4, 1.27e-4 / 4.7e-3 at 8; pymeshlab 1.51e-4 / 4.1e-3 at 4; ours 1.27e-4 / 4.0e-3).
+    assert mean < 1.3e-4 and hausdorff < 4.5e-3, (mean, hausdorff)
+    # Most of the 35k samples are too sparse for depth 8: the surface is extracted at depth 7, at
+    # the size of the peers' meshes (measured at depth 8: Open3D 46968 vertices, pymeshlab 46817).
+    assert mesh.extraction_depth == 7 and mesh.level_depths.tolist() == [4, 5, 6, 7]
+    assert 0.9 * 46968 < len(mesh.V) < 1.1 * 46968
+
+
+def test_the_extraction_depth_follows_the_sample_density():
+    P, N = datasets.sphere_points(3000, seed=3)
+    deep = rc.poisson(P, N, depth=8)             # 3000 samples support depth 6 on this sphere
+    assert deep.extraction_depth == 6 and deep.level_depths.tolist() == [4, 5, 6]
+    shallow = rc.poisson(P, N, depth=6)
+    assert_closed_manifold(deep.V, deep.F, 2)
+    assert abs(len(deep.V) - len(shallow.V)) < 0.05 * len(shallow.V)
+    forced = rc.poisson(P, N, depth=8, extraction_depth=8)  # finer: about 4× the vertices per level
+    assert forced.extraction_depth == 8 and forced.level_depths.tolist() == [4, 5, 6, 7, 8]
+    assert_closed_manifold(forced.V, forced.F, 2)
+    assert 10 * len(deep.V) < len(forced.V) < 20 * len(deep.V)
+    assert np.abs(np.linalg.norm(forced.V, axis=1) - 1).max() < 0.02
+    # Levels 7 and 8 solved only around the samples that reach them: smaller bands than forced's.
+    refined = rc.poisson(P, N, depth=8, band_refinement=2)
+    assert refined.extraction_depth == 6 and refined.level_depths.tolist() == [4, 5, 6, 7, 8]
+    assert np.all(0 < refined.level_unknowns[3:]) and np.all(refined.level_unknowns[3:] < forced.level_unknowns[3:] / 2)
+    assert_closed_manifold(refined.V, refined.F, 2)
+    assert abs(len(refined.V) - len(deep.V)) < 0.05 * len(deep.V)
 
 
 def test_the_result_does_not_depend_on_the_thread_count():
@@ -70,6 +96,9 @@ def test_the_result_does_not_depend_on_the_thread_count():
         "print(hashlib.sha256(m.V.tobytes() + m.F.tobytes() + m.density.tobytes()).hexdigest())")],
         capture_output=True, text=True, check=True)
     assert one_core.stdout.strip() == digest
+    for threads in (1, 2):
+        again = rc.poisson(P, N, depth=6, threads=threads)
+        assert hashlib.sha256(again.V.tobytes() + again.F.tobytes() + again.density.tobytes()).hexdigest() == digest
 
 
 def test_density_marks_the_unsampled_cap_and_trimming_removes_it():
@@ -122,6 +151,12 @@ def test_bad_input_is_an_input_error():
         rc.poisson(P, N, screening=-1)
     with pytest.raises(meshsmith.InputError, match="samples_per_node"):
         rc.poisson(P, N, samples_per_node=0)
+    with pytest.raises(meshsmith.InputError, match="extraction_depth"):
+        rc.poisson(P, N, depth=6, extraction_depth=7)
+    with pytest.raises(meshsmith.InputError, match="band_refinement"):
+        rc.poisson(P, N, band_refinement=11)
+    with pytest.raises(meshsmith.InputError, match="threads"):
+        rc.poisson(P, N, threads=0)
     V, F = datasets.icosphere(1)
     with pytest.raises(meshsmith.InputError, match="one per vertex"):
         rc.trim_by_density(V, F, np.ones(5))

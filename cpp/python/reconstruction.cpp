@@ -8,6 +8,9 @@
 #include <meshsmith/reconstruction/poisson.h>
 #include <meshsmith/reconstruction/signed_distance.h>
 
+#include <oneapi/tbb/global_control.h>
+
+#include <memory>
 #include <string>
 
 namespace meshsmith::python {
@@ -122,7 +125,9 @@ void bind_reconstruction(py::module_& m) {
 
   m.def("poisson", [](const py::object& P, const py::object& N, const py::object& depth, double screening,
                       double samples_per_node, double scale, const py::object& coarse_depth, const py::object& band,
-                      const py::object& refinement, const py::object& max_iterations, double tolerance, const py::object& callback) {
+                      const py::object& refinement, const py::object& max_iterations, double tolerance,
+                      const py::object& extraction_depth, const py::object& band_refinement, const py::object& threads,
+                      const py::object& callback) {
     auto samples = as_real_matrix(P, "P", 3);
     auto normals = as_real_matrix(N, "N", 3);
     reconstruction::PoissonOptions options;
@@ -135,8 +140,15 @@ void bind_reconstruction(py::module_& m) {
     options.refinement = integer_argument<int>(refinement, "refinement", 0, 10);
     options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 1, 1 << 20);
     options.tolerance = tolerance;
+    options.extraction_depth = extraction_depth.is_none() ? 0 : integer_argument<int>(extraction_depth, "extraction_depth", 2, 10);
+    options.band_refinement = integer_argument<int>(band_refinement, "band_refinement", 0, 10);
+    const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
     Progress progress = make_progress(callback);
     auto result = without_gil([&] {
+      std::unique_ptr<tbb::global_control> limit;  // at most `threads` threads (the result does not depend on it)
+      if (thread_count > 0)
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                      static_cast<std::size_t>(thread_count));
       return reconstruction::poisson(map_vertices(samples), map_vertices(normals), options, progress);
     });
     const auto count = static_cast<Eigen::Index>(result.levels.size());
@@ -152,6 +164,7 @@ void bind_reconstruction(py::module_& m) {
     out["F"] = indices_to_numpy(result.F);
     out["density"] = to_numpy(std::move(result.density));
     out["iso"] = result.iso;
+    out["extraction_depth"] = result.extraction_depth;
     out["level_depths"] = to_numpy(std::move(depths));
     out["level_unknowns"] = to_numpy(std::move(unknowns));
     out["level_iterations"] = to_numpy(std::move(iterations));
@@ -159,6 +172,7 @@ void bind_reconstruction(py::module_& m) {
     return out;
   }, py::arg("P"), py::arg("N"), py::arg("depth"), py::arg("screening"), py::arg("samples_per_node"), py::arg("scale"),
      py::arg("coarse_depth"), py::arg("band"), py::arg("refinement"), py::arg("max_iterations"), py::arg("tolerance"),
+     py::arg("extraction_depth") = py::none(), py::arg("band_refinement") = 0, py::arg("threads") = py::none(),
      py::arg("progress") = py::none());
 }
 

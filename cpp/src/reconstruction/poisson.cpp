@@ -4,12 +4,19 @@
 // n = 2^d cells per axis, cells grouped in blocks of 2³ (measured on the bunny at depth 8:
 // blocks of 4³ made the finest band 1.5M nodes instead of 1.2M, and band 1 instead of 2 takes it
 // to 0.8M at the same distances to the ground truth). A level keeps its band blocks (sorted
-// keys and a hash map), and for each band block the node ids of its 3³ corners, so that a cell's
-// eight nodes are found with one hash lookup. Nodes are numbered in sorted key order; the free
+// keys, and a block table: dense up to depth 8, a hash map beyond), and for each band block the
+// node ids of its 3³ corners, so that a cell's eight nodes are found with one lookup. Nodes are
+// numbered in key order (through a dense table up to depth 7, by sorting beyond); the free
 // ones (every cell around them that lies in the cube is a band cell) get a row of the system with
 // 27 fixed slots (neighbour offsets in {−1, 0, 1}³), the others are Dirichlet nodes valued from
 // the coarser level. The Q1 integrals are tensor products of 1-D integrals, truncated at the
 // cube's faces (natural boundary conditions there).
+//
+// Cost (measured on pmp-bunny.xyz, depth 8, extraction depth 7, one thread, CPU seconds with
+// MESHSMITH_POISSON_PROFILE=1, which prints each stage's wall and CPU time to stderr): of 0.5 s,
+// the finest level's system 0.12 and solve 0.09 (12 CG iterations on 216k unknowns, memory
+// bound: 27 slots of 12 bytes per row), sample depths 0.04, density 0.05, marching cubes 0.04,
+// splatting 0.03, the coarser levels the rest.
 //
 // Determinism: splatting and the screening terms are accumulated sample by sample in input order
 // on the calling thread; rows, matrix-vector products and evaluations are per item; the dot
@@ -28,7 +35,11 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <string>
 #include <unordered_map>
 
@@ -39,6 +50,8 @@ using Int = std::int64_t;
 constexpr int B = 2;                          // cells per block edge
 constexpr int C = B + 1;                      // corner nodes per block edge
 constexpr int CORNERS = C * C * C;
+constexpr std::int64_t DENSE_BLOCKS = std::int64_t(1) << 21;  // a dense block table up to 8 MB (depth 8)
+constexpr std::int64_t DENSE_NODES = std::int64_t(1) << 22;   // a dense node table up to 16 MB (depth 7)
 
 /// 1-D integrals of hat functions on nodes 0..n (unit spacing): ψ_i ψ_{i+o}, ψ_i' ψ_{i+o}',
 /// ψ_{i+o} ψ_i', over the intervals next to node i that lie in [0, n].
@@ -61,7 +74,8 @@ struct Level {
   double h = 0.0;  // 1 / n
   Int blocks_per_axis = 0;
   std::vector<Int> block_keys;
-  std::unordered_map<Int, int> block_index;
+  std::unordered_map<Int, int> block_index;  // when blocks_per_axis³ > DENSE_BLOCKS
+  std::vector<int> block_dense;              // block per key (or -1) when blocks_per_axis³ <= DENSE_BLOCKS
   std::vector<std::array<int, CORNERS>> corner_id;
   std::vector<Int> node_key;        // sorted
   std::vector<int> row_of_node;     // free row or -1
@@ -72,12 +86,15 @@ struct Level {
 
   Int node_key_of(Int i, Int j, Int k) const { return (i * (n + 1) + j) * (n + 1) + k; }
   int find_block(Int bi, Int bj, Int bk) const {
-    const auto it = block_index.find((bi * blocks_per_axis + bj) * blocks_per_axis + bk);
+    const Int key = (bi * blocks_per_axis + bj) * blocks_per_axis + bk;
+    if (!block_dense.empty()) return block_dense[static_cast<std::size_t>(key)];
+    const auto it = block_index.find(key);
     return it == block_index.end() ? -1 : it->second;
   }
   /// find_block with a one-entry cache held by the caller (consecutive lookups mostly repeat).
   int find_block(Int bi, Int bj, Int bk, Int& cached_key, int& cached_index) const {
     const Int key = (bi * blocks_per_axis + bj) * blocks_per_axis + bk;
+    if (!block_dense.empty()) return block_dense[static_cast<std::size_t>(key)];
     if (key != cached_key) {
       const auto it = block_index.find(key);
       cached_key = key;
@@ -203,6 +220,11 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     throw InputError("band = " + std::to_string(options.band) + ": expected an integer in [1, 16]");
   if (options.refinement < 0 || options.refinement > 10)
     throw InputError("refinement = " + std::to_string(options.refinement) + ": expected an integer in [0, 10]");
+  if (options.band_refinement < 0 || options.band_refinement > 10)
+    throw InputError("band_refinement = " + std::to_string(options.band_refinement) + ": expected an integer in [0, 10]");
+  if (options.extraction_depth != 0 && (options.extraction_depth < 2 || options.extraction_depth > options.depth))
+    throw InputError("extraction_depth = " + std::to_string(options.extraction_depth) + ": expected 0 (automatic) or an integer in [2, depth = " +
+                     std::to_string(options.depth) + "]");
   if (options.max_iterations < 1)
     throw InputError("max_iterations = " + std::to_string(options.max_iterations) + ": expected an integer >= 1");
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
@@ -224,8 +246,22 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
   VertexMatrix X(m, 3);  // unit-cube positions
   for (Int s = 0; s < m; ++s) X.row(s) = (P.row(s) - corner) / size;
 
+  const char* profile_env = std::getenv("MESHSMITH_POISSON_PROFILE");
+  const bool profile = profile_env != nullptr && *profile_env != '\0';
+  auto stage_start = std::chrono::steady_clock::now();
+  std::clock_t cpu_start = std::clock();
+  auto stage = [&](const char* name) {
+    if (!profile) return;
+    const auto now = std::chrono::steady_clock::now();
+    const std::clock_t cpu = std::clock();
+    std::fprintf(stderr, "poisson stage %-22s %8.3f s wall %8.3f s cpu\n", name,
+                 std::chrono::duration<double>(now - stage_start).count(),
+                 static_cast<double>(cpu - cpu_start) / CLOCKS_PER_SEC);
+    stage_start = now;
+    cpu_start = cpu;
+  };
   const int finest = options.depth, coarsest = std::max(2, std::min(options.coarse_depth, finest));
-  const int level_count = finest - coarsest + 1;
+  const int depth_count = finest - coarsest + 1;
   auto cell_key = [&](Int s, int d) {
     const Int n = Int(1) << d;
     Int key = 0;
@@ -237,50 +273,76 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
   std::vector<int> sample_depth(static_cast<std::size_t>(m), coarsest);
   std::vector<double> sample_area(static_cast<std::size_t>(m), 0.0);
   {
-    std::vector<std::vector<Int>> counts(static_cast<std::size_t>(level_count));
-    for (int d = coarsest; d <= finest; ++d) {
-      std::vector<Int> keys(static_cast<std::size_t>(m));
-      for (Int s = 0; s < m; ++s) keys[static_cast<std::size_t>(s)] = cell_key(s, d);
-      std::vector<Int> sorted = keys;
-      std::sort(sorted.begin(), sorted.end());
-      // Samples in the support of the node nearest to each sample (its 8 incident cells).
-      auto& count = counts[static_cast<std::size_t>(d - coarsest)];
-      count.resize(static_cast<std::size_t>(m));
+    // The samples' cell keys per level, sorted; each sample then counts the samples in its
+    // node's support from the finest level down, stopping at the first level that holds enough.
+    std::vector<std::vector<Int>> sorted(static_cast<std::size_t>(depth_count));
+    tbb::parallel_for(0, depth_count, [&](int l) {
+      auto& keys = sorted[static_cast<std::size_t>(l)];
+      keys.resize(static_cast<std::size_t>(m));
+      for (Int s = 0; s < m; ++s) keys[static_cast<std::size_t>(s)] = cell_key(s, coarsest + l);
+      std::sort(keys.begin(), keys.end());
+    });
+    auto support_count = [&](Int s, int d) {
+      const auto& keys = sorted[static_cast<std::size_t>(d - coarsest)];
       const Int n = Int(1) << d;
-      parallel_rows(m, [&](Int s) {
-        Int node[3];
-        for (int a = 0; a < 3; ++a) node[a] = static_cast<Int>(std::lround(X(s, a) * static_cast<double>(n)));
-        Int total = 0;
-        for (int c = 0; c < 8; ++c) {
-          Int cell[3];
-          bool inside = true;
-          for (int a = 0; a < 3; ++a) {
-            cell[a] = node[a] - ((c >> a) & 1);
-            inside = inside && cell[a] >= 0 && cell[a] < n;
-          }
-          if (!inside) continue;
-          const Int key = (cell[0] * n + cell[1]) * n + cell[2];
-          const auto range = std::equal_range(sorted.begin(), sorted.end(), key);
-          total += range.second - range.first;
+      Int node[3];
+      for (int a = 0; a < 3; ++a) node[a] = static_cast<Int>(std::lround(X(s, a) * static_cast<double>(n)));
+      Int total = 0;
+      for (int c = 0; c < 8; ++c) {
+        Int cell[3];
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          cell[a] = node[a] - ((c >> a) & 1);
+          inside = inside && cell[a] >= 0 && cell[a] < n;
         }
-        count[static_cast<std::size_t>(s)] = total;
-      });
-    }
-    for (Int s = 0; s < m; ++s) {
+        if (!inside) continue;
+        const Int key = (cell[0] * n + cell[1]) * n + cell[2];
+        const auto range = std::equal_range(keys.begin(), keys.end(), key);
+        total += range.second - range.first;
+      }
+      return total;
+    };
+    parallel_rows(m, [&](Int s) {
       int depth = coarsest;
-      for (int d = finest; d > coarsest; --d)
-        if (static_cast<double>(counts[static_cast<std::size_t>(d - coarsest)][static_cast<std::size_t>(s)]) >= options.samples_per_node) {
+      Int count = 0;
+      for (int d = finest; d >= coarsest; --d) {
+        count = support_count(s, d);
+        if (d == coarsest || static_cast<double>(count) >= options.samples_per_node) {
           depth = d;
           break;
         }
+      }
       sample_depth[static_cast<std::size_t>(s)] = depth;
       const double h = std::ldexp(1.0, -depth);
       // The sample's share of the surface in the node's support (about 4 cells of area h² for a
       // surface through it).
-      sample_area[static_cast<std::size_t>(s)] =
-          4.0 * h * h / static_cast<double>(std::max<Int>(1, counts[static_cast<std::size_t>(depth - coarsest)][static_cast<std::size_t>(s)]));
-    }
+      sample_area[static_cast<std::size_t>(s)] = 4.0 * h * h / static_cast<double>(std::max<Int>(1, count));
+    });
   }
+  // The extraction depth: as asked, or the deepest level at least half of the samples reach.
+  int extract = options.extraction_depth > 0 ? std::max(coarsest, options.extraction_depth) : coarsest;
+  {
+    std::vector<Int> reaching(static_cast<std::size_t>(finest + 2), 0);  // samples of depth >= d
+    for (Int s = 0; s < m; ++s) {
+      ++reaching[static_cast<std::size_t>(sample_depth[static_cast<std::size_t>(s)])];
+    }
+    for (int d = finest; d >= coarsest; --d) reaching[static_cast<std::size_t>(d)] += reaching[static_cast<std::size_t>(d + 1)];
+    if (options.extraction_depth == 0)
+      for (int d = finest; d > coarsest; --d)
+        if (2 * reaching[static_cast<std::size_t>(d)] >= m) {
+          extract = d;
+          break;
+        }
+  }
+  // The levels: coarsest to extraction depth + band_refinement (at most the finest). A sample's
+  // blocks are in the band of every level up to the extraction depth, and of the deeper ones
+  // that its own depth reaches (an adaptive refinement; measured on pmp-bunny.xyz at depth 8,
+  // extraction depth 7: solving level 8 around the 37% of samples of depth 8 took 50% longer
+  // and made the mean distance to the ground truth 1.6e-4 instead of 1.4e-4 × diagonal, as the
+  // surface is extracted at depth 7 anyway, hence band_refinement = 0 by default).
+  auto in_band = [&](Int s, int d) { return d <= extract || sample_depth[static_cast<std::size_t>(s)] >= d; };
+  const int level_count = std::min(finest, extract + options.band_refinement) - coarsest + 1;
+  stage("sample depths");
 
   PoissonResult result;
   std::vector<Level> levels(static_cast<std::size_t>(level_count));
@@ -296,15 +358,18 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     level.blocks_per_axis = level.n / B;
     const Int nb = level.blocks_per_axis;
     // Band blocks: all of them on the coarsest level; else the blocks within band + 1 cells of a
-    // sample whose depth + band_refinement is at least this level's (the adaptivity of an octree: where samples
-    // are sparser, χ is the coarser level's; the part of V beyond the band acts through the
-    // coarser solution, as boundary values).
+    // sample in_band at this level (the adaptivity of an octree: where samples are sparser, χ
+    // is the coarser level's; the part of V beyond the band acts through the coarser solution,
+    // as boundary values).
     if (l == 0) {
       level.block_keys.resize(static_cast<std::size_t>(nb * nb * nb));
       for (Int k = 0; k < nb * nb * nb; ++k) level.block_keys[static_cast<std::size_t>(k)] = k;
     } else {
+      // Marked in a dense table and collected in key order, or (beyond DENSE_BLOCKS) sorted.
+      const bool dense = nb * nb * nb <= DENSE_BLOCKS;
+      std::vector<char> marked(dense ? static_cast<std::size_t>(nb * nb * nb) : 0, 0);
       for (Int s = 0; s < m; ++s) {
-        if (sample_depth[static_cast<std::size_t>(s)] + options.band_refinement < level.depth) continue;  // not refined here
+        if (!in_band(s, level.depth)) continue;  // not refined here
         const double reach = (options.band + 1) * level.h;
         Int lo[3], hi[3];
         for (int a = 0; a < 3; ++a) {
@@ -314,50 +379,80 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
         }
         for (Int i = lo[0]; i <= hi[0]; ++i)
           for (Int j = lo[1]; j <= hi[1]; ++j)
-            for (Int k = lo[2]; k <= hi[2]; ++k) level.block_keys.push_back((i * nb + j) * nb + k);
+            for (Int k = lo[2]; k <= hi[2]; ++k) {
+              if (dense)
+                marked[static_cast<std::size_t>((i * nb + j) * nb + k)] = 1;
+              else
+                level.block_keys.push_back((i * nb + j) * nb + k);
+            }
       }
-      std::sort(level.block_keys.begin(), level.block_keys.end());
-      level.block_keys.erase(std::unique(level.block_keys.begin(), level.block_keys.end()), level.block_keys.end());
+      if (dense) {
+        for (Int key = 0; key < nb * nb * nb; ++key)
+          if (marked[static_cast<std::size_t>(key)]) level.block_keys.push_back(key);
+      } else {
+        std::sort(level.block_keys.begin(), level.block_keys.end());
+        level.block_keys.erase(std::unique(level.block_keys.begin(), level.block_keys.end()), level.block_keys.end());
+      }
     }
     const auto block_count = level.block_keys.size();
-    level.block_index.reserve(block_count);
-    for (std::size_t b = 0; b < block_count; ++b) level.block_index.emplace(level.block_keys[b], static_cast<int>(b));
+    if (nb * nb * nb <= DENSE_BLOCKS) {
+      level.block_dense.assign(static_cast<std::size_t>(nb * nb * nb), -1);
+      for (std::size_t b = 0; b < block_count; ++b) level.block_dense[static_cast<std::size_t>(level.block_keys[b])] = static_cast<int>(b);
+    } else {
+      level.block_index.reserve(block_count);
+      for (std::size_t b = 0; b < block_count; ++b) level.block_index.emplace(level.block_keys[b], static_cast<int>(b));
+    }
     // Nodes: the corners of band blocks, numbered in sorted key order.
     auto block_origin = [&](std::size_t b, Int* first) {
       const Int key = level.block_keys[b];
       first[0] = key / (nb * nb) * B, first[1] = (key / nb) % nb * B, first[2] = key % nb * B;
     };
-    level.node_key.reserve(block_count * CORNERS);
-    for (std::size_t b = 0; b < block_count; ++b) {
+    // Up to DENSE_NODES grid nodes, a dense table numbers them (a scan in key order); beyond,
+    // the keys are sorted and looked up by binary search. Both give the same numbering.
+    const Int side = level.n + 1;
+    const bool dense_nodes = side * side * side <= DENSE_NODES;
+    std::vector<int> node_table(dense_nodes ? static_cast<std::size_t>(side * side * side) : 0, -1);
+    auto for_each_corner = [&](std::size_t b, const auto& body) {
       Int first[3];
       block_origin(b, first);
+      int w = 0;
       for (int i = 0; i < C; ++i)
         for (int j = 0; j < C; ++j)
-          for (int k = 0; k < C; ++k) level.node_key.push_back(level.node_key_of(first[0] + i, first[1] + j, first[2] + k));
+          for (int k = 0; k < C; ++k, ++w) body(w, level.node_key_of(first[0] + i, first[1] + j, first[2] + k));
+    };
+    if (dense_nodes) {
+      for (std::size_t b = 0; b < block_count; ++b)
+        for_each_corner(b, [&](int, Int key) { node_table[static_cast<std::size_t>(key)] = 0; });
+      int next = 0;
+      for (Int key = 0; key < side * side * side; ++key)
+        if (node_table[static_cast<std::size_t>(key)] == 0) {
+          node_table[static_cast<std::size_t>(key)] = next++;
+          level.node_key.push_back(key);
+        }
+    } else {
+      level.node_key.reserve(block_count * CORNERS);
+      for (std::size_t b = 0; b < block_count; ++b) for_each_corner(b, [&](int, Int key) { level.node_key.push_back(key); });
+      std::sort(level.node_key.begin(), level.node_key.end());
+      level.node_key.erase(std::unique(level.node_key.begin(), level.node_key.end()), level.node_key.end());
     }
-    std::sort(level.node_key.begin(), level.node_key.end());
-    level.node_key.erase(std::unique(level.node_key.begin(), level.node_key.end()), level.node_key.end());
     const Int nodes = static_cast<Int>(level.node_key.size());
     if (nodes > Int(1) << 30) throw InputError("poisson: the band has more than 2^30 nodes; use a smaller depth");
     level.corner_id.resize(block_count);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block_count, 64), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t b = r.begin(); b < r.end(); ++b) {
-        Int first[3];
-        block_origin(b, first);
-        int w = 0;
-        for (int i = 0; i < C; ++i)
-          for (int j = 0; j < C; ++j)
-            for (int k = 0; k < C; ++k, ++w) {
-              const Int key = level.node_key_of(first[0] + i, first[1] + j, first[2] + k);
-              level.corner_id[b][static_cast<std::size_t>(w)] =
-                  static_cast<int>(std::lower_bound(level.node_key.begin(), level.node_key.end(), key) - level.node_key.begin());
-            }
-      }
+      for (std::size_t b = r.begin(); b < r.end(); ++b)
+        for_each_corner(b, [&](int w, Int key) {
+          level.corner_id[b][static_cast<std::size_t>(w)] =
+              dense_nodes ? node_table[static_cast<std::size_t>(key)]
+                          : static_cast<int>(std::lower_bound(level.node_key.begin(), level.node_key.end(), key) -
+                                             level.node_key.begin());
+        });
     });
+    node_table = {};
     auto node_coordinates = [&](Int id, Int* x) {
-      const Int key = level.node_key[static_cast<std::size_t>(id)], side = level.n + 1;
+      const Int key = level.node_key[static_cast<std::size_t>(id)];
       x[0] = key / (side * side), x[1] = (key / side) % side, x[2] = key % side;
     };
+    stage("level: band and nodes");
     // Free nodes: every incident cell inside the cube is a band cell.
     level.row_of_node.assign(static_cast<std::size_t>(nodes), -1);
     std::vector<char> is_free(static_cast<std::size_t>(nodes), 0);
@@ -385,6 +480,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
       }
     const Int rows = static_cast<Int>(level.node_of_row.size());
 
+    stage("level: free nodes");
     // The normal field: the coarser deposits prolonged (exact: the Q1 spaces are nested), plus
     // the samples splatted here (deposited here if this is their depth).
     level.field.assign(static_cast<std::size_t>(3 * nodes), 0.0);
@@ -416,6 +512,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
         }
     }
 
+    stage("level: splatting");
     // Boundary values and the initial guess from the coarser level.
     level.value = Eigen::VectorXd::Zero(nodes);
     if (l > 0)
@@ -427,6 +524,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
         level.value[id] = evaluate_value(levels, l - 1, y);
       });
 
+    stage("level: prolong chi");
     // Rows: 27 slots (offset (ox, oy, oz) in slot (ox+1)·9 + (oy+1)·3 + oz+1), column = node id.
     std::vector<int> column(static_cast<std::size_t>(27 * rows), -1);
     std::vector<double> entry(static_cast<std::size_t>(27 * rows), 0.0);
@@ -437,8 +535,10 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
       node_coordinates(id, x);
       const Factors fx(x[0], level.n), fy(x[1], level.n), fz(x[2], level.n);
       double b = 0.0;
-      Int cached_key = -1;
-      int cached_index = -1;
+      // The node ids of the (up to 8) incident band cells, looked up once each: cell x - 1 + bit
+      // a of `incident` along axis a.
+      int incident_ids[8][8];
+      bool incident_known[8] = {false, false, false, false, false, false, false, false};
       for (int ox = -1; ox <= 1; ++ox)
         for (int oy = -1; oy <= 1; ++oy)
           for (int oz = -1; oz <= 1; ++oz) {
@@ -456,9 +556,12 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
               const int o = a == 0 ? ox : (a == 1 ? oy : oz);
               cell[a] = o < 0 ? x[a] - 1 : (o > 0 ? x[a] : (x[a] < level.n ? x[a] : x[a] - 1));
             }
-            const int block = level.find_block(cell[0] / B, cell[1] / B, cell[2] / B, cached_key, cached_index);
-            int ids[8];
-            level.cell_nodes(block, cell, ids);
+            const int incident = (cell[0] == x[0] ? 1 : 0) | (cell[1] == x[1] ? 2 : 0) | (cell[2] == x[2] ? 4 : 0);
+            int* ids = incident_ids[incident];
+            if (!incident_known[incident]) {
+              level.cell_nodes(level.find_block(cell[0] / B, cell[1] / B, cell[2] / B), cell, ids);
+              incident_known[incident] = true;
+            }
             const int corner = (y[0] - cell[0]) | ((y[1] - cell[1]) << 1) | ((y[2] - cell[2]) << 2);
             const int j = ids[corner];
             const int slot = (ox + 1) * 9 + (oy + 1) * 3 + oz + 1;
@@ -472,11 +575,11 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     // Screening: α 2^d a_s φ_i(p_s) φ_j(p_s), sample by sample (the samples refined to this level).
     const double alpha = options.screening * static_cast<double>(level.n);
     for (Int s = 0; s < m; ++s) {
-      if (sample_depth[static_cast<std::size_t>(s)] + options.refinement < level.depth) continue;
+      if (sample_depth[static_cast<std::size_t>(s)] + options.refinement < level.depth || !in_band(s, level.depth)) continue;
       const double y[3] = {X(s, 0), X(s, 1), X(s, 2)};
       double w[8];
       int ids[8];
-      interpolation(level, y, ids, w);
+      if (!interpolation(level, y, ids, w)) continue;  // not reached: the sample's cell is a band cell
       const double weight = alpha * sample_area[static_cast<std::size_t>(s)];
       for (int a = 0; a < 8; ++a) {
         const int r = level.row_of_node[static_cast<std::size_t>(ids[a])];
@@ -517,6 +620,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
       const double d = entry[static_cast<std::size_t>(27 * r + 13)];
       diagonal[r] = d > 0.0 ? 1.0 / d : 1.0;
     }
+    stage("level: system");
     // Conjugate gradients, Jacobi-preconditioned, from the coarser solution.
     Eigen::VectorXd x(rows), residual(rows), z(rows), direction(rows), product(rows);
     for (Int r = 0; r < rows; ++r) x[r] = level.value[level.node_of_row[static_cast<std::size_t>(r)]];
@@ -552,6 +656,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
       parallel_rows(rows, [&](Int i) { direction[i] = z[i] + beta * direction[i]; });
       residual_norm = std::sqrt(deterministic_sum(rows, [&](Int i) { return residual[i] * residual[i]; }));
     }
+    stage("level: solve");
     report.iterations = it;
     report.residual = residual_norm / scale_norm;
     result.levels.push_back(report);
@@ -576,8 +681,10 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
   }
   result.iso = sample_mean;
 
-  // Marching cubes on the finest grid, following the surface from the samples.
-  const Int n = Int(1) << finest;
+  stage("iso-value");
+  // Marching cubes on the grid of the extraction depth, following the surface from the samples.
+  result.extraction_depth = extract;
+  const Int n = Int(1) << extract;
   Grid grid;
   grid.shape = {n + 1, n + 1, n + 1};
   const double h = size / static_cast<double>(n);
@@ -591,9 +698,10 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     });
   };
   ContourMesh mesh = marching_cubes_sparse(chi, grid, P, sample_mean, SparseOptions{}, progress.subrange(0.8, 0.95));
+  stage("marching cubes");
   result.V = std::move(mesh.V);
   result.F = std::move(mesh.F);
-  // Density: samples within 2 finest cells of each vertex.
+  // Density: samples within 2 cells (of the extraction grid) of each vertex.
   result.density = Eigen::VectorXd::Zero(result.V.rows());
   if (result.V.rows() > 0) {
     const points::KdTree tree(P);
@@ -601,6 +709,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
     for (Eigen::Index v = 0; v < result.V.rows(); ++v)
       result.density[v] = static_cast<double>(near.offsets[static_cast<std::size_t>(v) + 1] - near.offsets[static_cast<std::size_t>(v)]);
   }
+  stage("density");
   progress.report(1.0, "poisson");
   return result;
 }

@@ -45,7 +45,7 @@ def command_reconstruct(args: argparse.Namespace) -> int:
         V, F = mesh.V, mesh.F
         if args.trim:
             V, F, _ = reconstruction.trim_by_density(V, F, mesh.density, quantile=args.trim)
-        detail = f"depth {args.depth}"
+        detail = f"depth {args.depth}, surface extracted at depth {mesh.extraction_depth}"
     elif args.method == "sdf":
         V, F = tangent_plane_surface(P, oriented_normals(P, N, args.k, progress), args.resolution, progress)
         detail = f"resolution {args.resolution}"
@@ -88,7 +88,7 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
                              "along the bounding cube, 2 to 10 (default 8)")
     reconstruct.add_argument("--resolution", type=integer(2, 1024), default=64, help="sdf, graphcut: cells along "
                              "the longest bounding-box edge, 2 to 1024 (default 64)")
-    reconstruct.add_argument("--screening", type=number(0), default=4.0, help="poisson: screening weight (default 4)")
+    reconstruct.add_argument("--screening", type=number(0), default=8.0, help="poisson: screening weight (default 8)")
     reconstruct.add_argument("--trim", type=number(0, 1), default=0.0, help="poisson: fraction of vertices to trim "
                              "by density, 0 to 1 (default 0: none)")
     reconstruct.add_argument("--k", type=integer(3, 10_000), default=16, help="neighbours for normals when the "

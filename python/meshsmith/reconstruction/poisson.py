@@ -21,7 +21,9 @@ class PoissonMesh(NamedTuple):
     finest cells of each vertex (low where the surface was closed without data: see
     :func:`trim_by_density`); iso: the iso-value (mean of χ at the samples); level_depths,
     level_unknowns, level_iterations, level_residuals: per level of the cascade, coarse to fine,
-    its depth, free unknowns, conjugate-gradient iterations and the relative residual reached.
+    its depth, free unknowns, conjugate-gradient iterations and the relative residual reached;
+    extraction_depth: the depth of the marching-cubes grid (2^extraction_depth cells along the
+    bounding cube's edge).
     """
 
     V: FloatArray
@@ -32,6 +34,7 @@ class PoissonMesh(NamedTuple):
     level_unknowns: IndexArray
     level_iterations: IndexArray
     level_residuals: FloatArray
+    extraction_depth: int
 
 
 class TrimmedMesh(NamedTuple):
@@ -46,9 +49,10 @@ class TrimmedMesh(NamedTuple):
 
 
 @_arguments.real_options
-def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.0, samples_per_node: float = 1.5,
-            scale: float = 1.1, coarse_depth: int = 5, band: int = 1, refinement: int = 10, max_iterations: int = 300,
-            tolerance: float = 1e-4, progress: ProgressCallback = None) -> PoissonMesh:
+def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 8.0, samples_per_node: float = 1.5,
+            scale: float = 1.1, coarse_depth: int = 4, band: int = 1, refinement: int = 10, max_iterations: int = 300,
+            tolerance: float = 1e-3, extraction_depth: int | None = None, band_refinement: int = 0,
+            threads: int | None = None, progress: ProgressCallback = None) -> PoissonMesh:
     """Screened Poisson reconstruction (Kazhdan & Hoppe 2013) of a closed surface from oriented samples.
 
     P: (n, 3) samples, N: (n, 3) outward normals (any non-zero length; orient them first, e.g.
@@ -56,19 +60,34 @@ def poisson(P: ArrayLike, N: ArrayLike, *, depth: int = 8, screening: float = 4.
     field, screened towards the iso-value at the samples with weight `screening`) with trilinear
     elements on grids of 2^d cells along the bounding cube's edge (`scale` times the samples'
     largest extent): the full grid at `coarse_depth`, then narrow bands (`band` cells around the
-    samples) up to `depth`, each solved by conjugate gradients from the coarser solution. A
-    sample is splatted at its depth, the deepest level where the support of its nearest node (8
-    cells) holds `samples_per_node` samples, and screens χ on the levels up to `refinement`
-    deeper than that (10: all). The surface χ = mean χ(samples) is extracted by marching cubes on the finest grid,
+    samples), each solved by conjugate gradients from the coarser solution (a cascadic
+    multigrid). A sample's depth is the deepest level (up to `depth`) where the support of its
+    nearest node (8 cells) holds `samples_per_node` samples; it is splatted there and screens χ
+    on the levels up to `refinement` deeper (10: all). The bands are adaptive as an octree: they
+    surround every sample up to the extraction depth and, deeper, only the samples whose depth
+    reaches the level, so that sparse regions stop at a coarser level. The surface χ = mean
+    χ(samples) is extracted by marching cubes on the grid of depth `extraction_depth` (None: the
+    deepest level at least half of the samples reach, the resolution they support; Open3D and
+    PoissonRecon adapt theirs likewise, so at the same `depth` the meshes have similar sizes),
     following it from the samples: closed and edge-manifold (where it stays inside the cube).
-    The result does not depend on the thread count.
+    band_refinement: levels solved beyond the extraction depth, each only around the samples
+    whose depth reaches it (0, the default: none, as the mesh does not resolve them; measured
+    on pmp-bunny.xyz, solving level 8 made the run 50% longer and the mean distance to the
+    ground truth 1.6e-4 instead of 1.4e-4 × diagonal).
+    screening is not on the scale of PoissonRecon's point weight (other bases and normalisations):
+    measured on pmp-bunny.xyz at depth 8, mean distance to the ground truth ÷ diagonal 1.41e-4 at
+    4, 1.27e-4 at 8 (the default), 1.21e-4 at 16, the Hausdorff distance 4.0–4.3e-3 throughout;
+    Open3D's 1.30e-4 at point_weight 4, 1.27e-4 at 8, 1.33e-4 at 16 (pymeshlab 1.51e-4 at 4).
+    threads: at most this many threads (None: all cores); the result does not depend on it.
 
     Returns a :class:`PoissonMesh`. Raises InputError for fewer than 4 samples, samples all on
     one line or at one point, a NaN, a zero normal (naming its row), or an option out of range
-    (depth in [2, 10]). Time and memory grow as 4^depth (the band), not 8^depth.
+    (depth in [2, 10], extraction_depth in [2, depth]). Time and memory grow as 4^depth (the
+    band), not 8^depth, and stop growing at the depth the samples support.
     """
     return PoissonMesh(**_core.poisson(P, N, depth, screening, samples_per_node, scale, coarse_depth, band,
-                                       refinement, max_iterations, tolerance, progress))
+                                       refinement, max_iterations, tolerance, extraction_depth=extraction_depth,
+                                       band_refinement=band_refinement, threads=threads, progress=progress))
 
 
 @_arguments.real_options

@@ -9,15 +9,24 @@
 /// >= samples_per_node samples; a_s is the sample's share of the surface area in that support;
 /// the screening sums over the samples whose depth + refinement >= d, by default all). Level
 /// `coarse_depth` is the full (2^d + 1)³ grid over the bounding cube (natural boundary
-/// conditions); each finer level d up to `depth` keeps only the blocks of 2³ cells within
-/// band + 1 cells of the samples whose depth + band_refinement >= d (by default all; smaller
-/// values stop sparse regions at a coarser level, as an adaptive octree), takes the coarser solution as its
-/// boundary values and initial guess, and is solved by Jacobi-preconditioned conjugate gradients
-/// (a cascadic scheme: regular grids restricted to narrow bands standing in for the octree).
+/// conditions); each finer level d keeps only the blocks of 2³ cells within band + 1 cells of
+/// the samples, up to the extraction depth e; the band_refinement levels beyond e (none by
+/// default) only around the samples whose depth reaches d, so that there the finest cells exist
+/// only where the samples are dense enough to support them, as in the adaptive octree of
+/// Kazhdan & Hoppe (by default the adaptivity is global instead: e itself follows the
+/// samples' density, below). A level takes the coarser solution as its boundary values and
+/// initial guess and is solved by Jacobi-preconditioned conjugate gradients (a cascadic
+/// multigrid: coarse to fine, one CG run per level, no V-cycles).
 /// χ is thereby defined everywhere (the finest band where it exists, coarser levels elsewhere;
 /// continuous because the Q1 spaces are nested), and its iso-surface at the mean of χ over the
-/// samples is extracted by marching_cubes_sparse on the finest grid, seeded at the samples: the
-/// output is closed and edge-manifold wherever the surface stays inside the bounding cube.
+/// samples is extracted by marching_cubes_sparse on the grid of depth e, seeded at the samples:
+/// the output is closed and edge-manifold wherever the surface stays inside the bounding cube.
+/// e is `extraction_depth`, or by default the deepest level that at least half of the samples
+/// reach (their depth, above): the resolution the samples support. Open3D and PoissonRecon
+/// extract on the leaves of their sample-adapted octree, so their meshes have about the size of
+/// ours at the same `depth` (measured on pmp-bunny.xyz, 35k samples, depth 8: most samples
+/// reach depth 7 and all three meshes have about 47k vertices; asking for depth 9 changes
+/// neither theirs nor ours much).
 #include <meshsmith/core/progress.h>
 #include <meshsmith/core/types.h>
 
@@ -29,15 +38,19 @@ namespace meshsmith::reconstruction {
 /// Options of poisson().
 struct PoissonOptions {
   int depth = 8;                  ///< finest level: 2^depth cells along the bounding cube's edge, in [2, 10]
-  double screening = 4.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0)
+  double screening = 8.0;         ///< α, the weight pulling χ to the iso-value at the samples (>= 0;
+                                  ///< not PoissonRecon's point-weight scale: see poisson.py)
   double samples_per_node = 1.5;  ///< samples a node's support must hold for a sample to be splatted at its level (> 0)
   double scale = 1.1;             ///< bounding cube edge ÷ the samples' largest extent (>= 1)
-  int coarse_depth = 5;           ///< the level solved on the full grid (clamped to [2, depth])
+  int coarse_depth = 4;           ///< the level solved on the full grid (clamped to [2, depth])
   int band = 1;                   ///< cells kept around the samples on finer levels, in [1, 16]
   int refinement = 10;            ///< levels beyond a sample's depth where it screens χ, in [0, 10] (10: all)
-  int band_refinement = 10;       ///< levels beyond a sample's depth the bands reach (10: all)
+  int band_refinement = 0;        ///< levels solved beyond the extraction depth (around the samples whose depth reaches them), in [0, 10]
+  int extraction_depth = 0;       ///< depth of the marching-cubes grid, in [2, depth]; 0: automatic (see poisson())
   int max_iterations = 300;       ///< conjugate-gradient iterations per level (>= 1)
-  double tolerance = 1e-4;        ///< relative residual that ends a level's iterations (> 0)
+  double tolerance = 1e-3;        ///< relative residual that ends a level's iterations (> 0; measured on
+                                  ///< pmp-bunny.xyz: 1e-4 took 17 iterations per level instead of 12
+                                  ///< for the same distances to the ground truth to 1e-7 × diagonal)
 };
 
 /// What one level of the cascade did.
@@ -55,6 +68,7 @@ struct PoissonResult {
   FaceMatrix F;               ///< #F×3, outward
   Eigen::VectorXd density;    ///< #V: samples within 2 finest cells of the vertex (low: unsupported)
   double iso = 0.0;           ///< the iso-value (mean χ at the samples)
+  int extraction_depth = 0;   ///< the depth of the grid the surface was extracted on
   std::vector<PoissonLevel> levels;
 };
 
