@@ -164,16 +164,17 @@ def refine(P: ArrayLike, segments: ArrayLike | None, holes: ArrayLike | None = N
     Guarantee: every triangle with an angle below min_angle has its three vertices on the two
     segments of one small input angle (it lies in that angle's cluster; its smallest angle is at
     least about the input angle), or is so small that its split point would lie within 2^-40
-    (~1e-12) of the coordinates' magnitude from its vertices, too close for double precision. Termination is proven for min_angle <= 20.7° away from small input
-    angles and holds in practice up to 33° (every test domain, the issue's 1e-9 slivers in under
-    0.02 s, where Triangle does not finish; at 34° some domains reach the cap); area-bad triangles
-    are always split.
+    (~1e-12) of the coordinates' magnitude from its vertices, too close for double precision.
+    Termination is proven for min_angle <= 20.7° away from small input angles and holds in practice
+    up to 33° (every test domain, the issue's 1e-9 slivers in under 0.02 s, where Triangle does not
+    finish); at 34° some domains run to the cap, which can take a minute or more. Area-bad
+    triangles are always split.
     Returns a :class:`RefinedMesh` (V, F, steiner_count): V (n + k, 2) is P followed by the k added points (segment
     intersections included), F (m, 3) int64 CCW triangles of the domain. Steiner counts are close
     to Triangle's (see benchmarks/bench_tessellation.py).
     Raises InputError as constrained_delaunay or for a bad min_angle / max_area; SolverError
     when more than max_steiner_points points would be inserted (a channel narrower than 1e-6 of
-    its length needs a million; it never hangs); Cancelled when the callback returns False.
+    its length needs a million); Cancelled when the callback returns False.
     """
     area = 0.0 if max_area is None else _arguments.real(max_area, "max_area")
     if max_area is not None and not area > 0:

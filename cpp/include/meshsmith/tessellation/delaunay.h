@@ -81,9 +81,10 @@ struct RefineOptions {
 ///    order of 1/angle Steiner points per doubling of the distance from its apex).
 /// Termination: Ruppert's analysis guarantees it for min_angle <= 20.7° away from small input
 /// angles; near them the three rules above stop it (Shewchuk 2002, §6; Miller, Pav & Walkington
-/// 2003); above 20.7° it terminates in practice up to 33° (every test domain; at 34° some run to
-/// the cap), and the Steiner cap turns any remaining runaway (also a channel narrower than 1e-6 of
-/// its length, which needs a million points) into a SolverError, never a hang. Result: every triangle with an angle below min_angle
+/// 2003); above 20.7° it terminates in practice up to 33° (every test domain), and the Steiner cap
+/// turns any remaining runaway (a channel narrower than 1e-6 of its length, which needs a million
+/// points; some domains at 34°, where reaching the default cap can take a minute or more) into a
+/// SolverError. Result: every triangle with an angle below min_angle
 /// has its three vertices on the two segments of one small input angle (it lies in that angle's
 /// cluster), or is so small (its split point within 2^-40 ~ 1e-12 of the coordinates' magnitude
 /// of its vertices) that double precision cannot place the point;
