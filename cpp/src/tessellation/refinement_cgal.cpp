@@ -385,7 +385,10 @@ class Refiner {
         CGAL::orientation(c, a, from) != CGAL::LEFT_TURN)
       return {Face(), -1};  // thinner than double precision can tell
     Face previous;
-    for (std::size_t step = 0; step <= cdt_.number_of_faces(); ++step) {
+    // The TDS's face count is O(1) (Triangulation_2::number_of_faces() circulates around the
+    // infinite vertex: half the refinement's time when it was the loop's bound).
+    const std::size_t faces = cdt_.tds().number_of_faces();
+    for (std::size_t step = 0; step <= faces; ++step) {
       int exit = -1;
       for (int i = 0; i < 3 && exit < 0; ++i) {
         if (f->neighbor(i) == previous) continue;
