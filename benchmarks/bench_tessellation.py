@@ -10,11 +10,17 @@ Triangle's (random points are in general position, so the triangulation is uniqu
 decide with exact predicates), and differ from scipy's (Qhull, floating point) at most at a
 share of 1e-5 of them; the constrained Delaunay triangles equal Triangle's; refinement meets
 the angle bound (down to 1e-9 degrees; at a smaller input angle, that angle) on every domain of
-the Steiner table and covers the same area as Triangle's mesh (1e-12 relative).
+the Steiner table and covers the same area as Triangle's mesh (1e-12 relative). On the small-angle
+domains (issue 14's 1e-9 slivers, 1e-3 degree wedges, a star, a fan of 2.1-degree angles, a hole 1e-9
+from the boundary) every triangle below the bound lies in the cluster of a small input angle (all
+three vertices on its two segments); Triangle runs in a child process with a time limit, since it
+does not finish on some of them.
 """
 from __future__ import annotations
 
+import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -54,19 +60,24 @@ def triangle_refine(P, segments, holes, min_angle, max_area=None):
     return triangle.triangulate(pslg, switches)
 
 
-def minimum_angle(V, F) -> float:
+def smallest_angles(V, F) -> np.ndarray:
+    """The smallest angle of each triangle, in degrees."""
     corners = V[F]
-    smallest = np.inf
+    angles = []
     for k in range(3):
         u = corners[:, (k + 1) % 3] - corners[:, k]
         w = corners[:, (k + 2) % 3] - corners[:, k]
         cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
-        smallest = min(smallest, np.degrees(np.arccos(np.clip(cos, -1, 1))).min())
-    return float(smallest)
+        angles.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.min(angles, axis=0)
+
+
+def minimum_angle(V, F) -> float:
+    return float(smallest_angles(V, F).min())
 
 
 def steiner_comparison() -> None:
-    """Steiner points added by meshsmith.refine (CGAL's mesher) and by Triangle, same input/bound."""
+    """Steiner points added by meshsmith.refine and by Triangle, same input/bound."""
     print("\nDelaunay refinement: Steiner points and minimum angle (meshsmith vs Triangle)")
     print(f"{'domain':36s} {'bound':>6s} {'meshsmith pts':>14s} {'min angle':>10s} "
           f"{'Triangle pts':>13s} {'min angle':>10s}")
@@ -91,6 +102,93 @@ def steiner_comparison() -> None:
             print(f"{label:36s} {bound:6.1f} {ours} {theirs}")
             check("tessellation", "Steiner points and minimum angle", f"{label}, bound {bound}: degrees below {what}",
                   max(0.0, wanted - minimum_angle(V, F)), 1e-9)
+
+
+def small_angle_domains() -> dict:
+    """PSLGs with small input angles or features (points, segments, hole seeds)."""
+    def crack(degrees):
+        a = np.radians(degrees)
+        return (np.array([[-1, -1], [2, -1], [2, 2], [-1, 2], [0, 0], [1, 0], [np.cos(a), np.sin(a)]]),
+                np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [4, 6]]), None)
+    a = np.radians(1e-3)
+    t = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    r = np.where(np.arange(24) % 2 == 0, 1.0, 0.3)
+    fan = np.radians(np.linspace(0, 40, 20))
+    issue = np.array([[0, 0], [1, 0], [1, 1e-9], [0.5, 2]], float)
+    return {
+        "issue 14, segments 0-1-2-3": (issue, np.array([[0, 1], [1, 2], [2, 3], [3, 0]]), None),
+        "issue 14, segments 0-1-3-2 (slivers)": (issue, np.array([[0, 1], [1, 3], [3, 2], [2, 0]]), None),
+        "wedge of 1e-3 degrees": (np.array([[0, 0], [1, 0], [np.cos(a), np.sin(a)]]),
+                                  np.array([[0, 1], [1, 2], [2, 0]]), None),
+        "crack of 1e-3 degrees in a square": crack(1e-3),
+        "crack of 1 degree in a square": crack(1.0),
+        "12-point star (12.5-degree tips)": (np.c_[r * np.cos(t), r * np.sin(t)],
+                                             np.array([[i, (i + 1) % 24] for i in range(24)]), None),
+        "fan of 20 segments, 2.1 degrees apart": (
+            np.vstack([[[-2, -2], [2, -2], [2, 2], [-2, 2], [0, 0]], np.c_[np.cos(fan), np.sin(fan)]]),
+            np.array([[0, 1], [1, 2], [2, 3], [3, 0]] + [[4, 5 + i] for i in range(20)]), None),
+        "diamond hole 1e-9 from the boundary": (
+            np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 1e-9], [0.7, 0.3], [0.5, 0.6], [0.3, 0.3]]),
+            np.array([[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]), np.array([[0.5, 0.3]])),
+    }
+
+
+def outside_clusters(V, F, P, segments, bound) -> int:
+    """Triangles below `bound` that do not lie in the cluster of a small input angle (three
+    vertices on the two segments of two input segments meeting at less than 60 degrees)."""
+    def on(x, a, b):
+        d, e = b - a, x - a
+        return abs(d[0] * e[1] - d[1] * e[0]) <= 1e-12 * (d @ d) and -1e-12 <= d @ e <= (d @ d) * (1 + 1e-12)
+    clusters = []
+    for v in range(len(P)):
+        ends = [int(t) for s in segments.tolist() for t in s if v in s and t != v]
+        clusters += [(P[v], P[i], P[j]) for k, i in enumerate(ends) for j in ends[k + 1:]
+                     if (P[i] - P[v]) @ (P[j] - P[v]) > 0.5 * np.linalg.norm(P[i] - P[v]) * np.linalg.norm(P[j] - P[v])]
+    smallest = smallest_angles(V, F)
+    return sum(not any(all(on(x, a, e0) or on(x, a, e1) for x in V[F[f]]) for a, e0, e1 in clusters)
+               for f in np.flatnonzero(smallest < bound - 1e-9))
+
+
+def triangle_in_child(P, segments, holes, bound, limit):
+    """Triangle's Steiner count and time on the domain, or None when it does not finish in `limit` s."""
+    code = ("import sys, time, numpy as np, triangle\n"
+            "P, S, H = (np.array(x) if x is not None else None for x in eval(sys.stdin.read()))\n"
+            "pslg = {'vertices': P, 'segments': S}\n"
+            "if H is not None: pslg['holes'] = H\n"
+            f"start = time.perf_counter(); r = triangle.triangulate(pslg, 'pq{bound}Q')\n"
+            "print(len(r['vertices']) - len(P), time.perf_counter() - start)\n")
+    payload = repr((P.tolist(), segments.tolist(), None if holes is None else holes.tolist()))
+    try:
+        done = subprocess.run([sys.executable, "-c", code], input=payload, capture_output=True, text=True, timeout=limit)
+    except subprocess.TimeoutExpired:
+        return None
+    points, seconds = done.stdout.split()
+    return int(points), float(seconds)
+
+
+def small_angle_comparison() -> None:
+    """Refinement near small input angles: meshsmith terminates with the bound met outside the
+    clusters; Triangle, in a child process, where it finishes."""
+    limit = size(20.0, 5.0)
+    print("\nDelaunay refinement near small input angles (Triangle: own process, "
+          f"{limit:g} s limit; both single runs)")
+    print(f"{'domain':40s} {'bound':>5s} {'meshsmith pts':>13s} {'ms':>7s} {'below bound':>11s} "
+          f"{'Triangle pts':>12s} {'ms':>7s}")
+    for name, (P, segments, holes) in small_angle_domains().items():
+        for bound in (25.0, 30.0):
+            start = time.perf_counter()
+            V, F, steiner = refine(P, segments, holes, min_angle=bound)
+            ours = time.perf_counter() - start
+            theirs = "(triangle not installed)" if triangle is None else None
+            if triangle is not None:
+                result = triangle_in_child(P, segments, holes, bound, limit)
+                theirs = (f"{result[0]:12d} {1000 * result[1]:7.1f}" if result is not None
+                          else f"{'no result in ' + format(limit, 'g') + ' s':>20s}")
+            below = int(np.sum(smallest_angles(V, F) < bound - 1e-9))
+            print(f"{name:40s} {bound:5.1f} {steiner:13d} {1000 * ours:7.1f} {below:11d} {theirs}")
+            check("tessellation", "refinement near small input angles",
+                  f"{name}, bound {bound}: triangles below the bound outside small-angle clusters",
+                  outside_clusters(V, F, P, segments, bound), 0)
 
 
 def main() -> None:
@@ -147,6 +245,7 @@ def main() -> None:
                     relative_difference(total_area(V, F), total_area(theirs["vertices"], theirs["triangles"])), 1e-12)
 
     steiner_comparison()
+    small_angle_comparison()
 
 
 if __name__ == "__main__":

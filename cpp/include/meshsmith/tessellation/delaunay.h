@@ -2,7 +2,7 @@
 /// \file delaunay.h
 /// 2D tessellations (curriculum §2.1.1): Delaunay triangulation, constrained Delaunay
 /// triangulation of planar straight-line graphs, Voronoi diagram, Lawson edge flips and
-/// Ruppert/Chew Delaunay refinement ("Steiner points ⇒ angles ≥ 20°").
+/// Ruppert/Chew Delaunay refinement ("Steiner points ⇒ angles ≥ 20°"), terminating near small input angles.
 ///
 /// Points are row-major (n, 2) double matrices; triangles are (m, 3) int rows, counter-clockwise.
 /// Triangulations and the incircle / orientation tests behind them use exact predicates (CGAL's
@@ -66,16 +66,34 @@ struct RefineOptions {
   int max_steiner_points = 1000000; ///< termination guard
 };
 
-/// Ruppert/Chew Delaunay refinement of the PSLG (P, segments) minus its holes: CGAL's
-/// Delaunay_mesher_2 (circumcentre insertion, encroached segments split at their midpoints —
-/// diametral circles — with Shewchuk's cluster handling of small input angles). Guaranteed to
-/// terminate for min_angle ≤ 20.7°; works in practice up to about 33°. Triangles whose small
-/// angle is formed by two input segments meeting at an angle below 60° (or next to such a
-/// corner) may stay below the bound: as in Triangle, a skinny triangle whose shortest edge joins
-/// the two segments of such a corner at equal distance from it is not split.
+/// Ruppert's Delaunay refinement of the PSLG (P, segments) minus its holes (§2.1.1; Ruppert 1995,
+/// Shewchuk 2002), our own loop on CGAL's constrained Delaunay triangulation: encroached
+/// subsegments (diametral circles) are split first; then the worst triangle gets its circumcentre
+/// or off-centre (Üngör 2004), unless that point encroaches a subsegment or lies beyond one,
+/// which is split instead. Near small input angles (two segments meeting at less than 60°):
+///  - a subsegment at the apex is split on a concentric shell (a power-of-two distance from the
+///    apex), so the two sides get points at equal distances;
+///  - a skinny triangle whose shortest edge joins two such points of one shell is left alone
+///    (Triangle's seditious-edge rule);
+///  - the terminator: in a wedge narrower than 0.5°, a skinny triangle whose three vertices all lie
+///    on the wedge's two sides is left alone when its split would fall on those sides, and a
+///    vertex on one side does not encroach the other (resolving such a wedge would take of the
+///    order of 1/angle Steiner points per doubling of the distance from its apex).
+/// Termination: Ruppert's analysis guarantees it for min_angle <= 20.7° away from small input
+/// angles; near them the three rules above stop it (Shewchuk 2002, §6; Miller, Pav & Walkington
+/// 2003); above 20.7° it terminates in practice up to 33° (every test domain), and the Steiner cap
+/// turns any remaining runaway (a channel narrower than 1e-6 of its length, which needs a million
+/// points; some domains at 34°: 2.5 s to the default cap next to a 1e-15 feature) into a
+/// SolverError. Result: every triangle with an angle below min_angle
+/// has its three vertices on the two segments of one small input angle (it lies in that angle's
+/// cluster), or is so small (its split point within 2^-40 ~ 1e-12 of the coordinates' magnitude
+/// of its vertices) that double precision cannot place the point;
+/// area-bad triangles (max_area) are always split.
+/// \pre P finite; segments index P.
 /// \throw InputError as constrained_delaunay, or for min_angle outside (0, 35) or max_area < 0.
-/// \throw SolverError if more than max_steiner_points points would be inserted, or if 100,000
-///        refinement steps in a row insert nothing (features too small for double precision).
+/// \throw SolverError if more than max_steiner_points points would be inserted.
+/// \throw Cancelled (or what the callback throws) when `progress` says stop; it is polled every
+///        256 refinement steps (microseconds each) and throttled to one call per 50 ms.
 PlanarMesh refine(const PointRef2& P, const SegmentRef& segments, const PointRef2& holes,
                   const RefineOptions& options, const Progress& progress = {});
 
