@@ -1,5 +1,5 @@
 """Graph-cut reconstruction (§2.2, §3.2): Boykov–Kolmogorov max-flow against networkx's minimum_cut
-on random graphs and a graph with a known cut; unoriented samples of a sphere and a torus give
+on random graphs, PyMaxflow on grid graphs, and a graph with a known cut; unoriented samples of a sphere and a torus give
 closed, outward manifolds of the right Euler characteristic, their vertices within a fraction of
 a voxel of the true surface; a cloud with a wide gap needs an inside seed; bad input is an
 InputError."""
@@ -17,6 +17,34 @@ def assert_closed_manifold(V, F, chi):
     assert topology.boundary_loops(F) == []
     assert topology.euler_characteristic(F) == chi
     assert geometry.volume(V, F) > 0  # outward
+
+
+@pytest.mark.parametrize("n, seed", [(12, 0), (20, 1), (24, 2)])
+def test_max_flow_equals_pymaxflow_on_grid_graphs(n, seed):
+    """Random integer capacities on a 6-connected n³ grid, source and sink on opposite faces (the
+    benchmark's graph, where the search trees and orphans get a workout): the same flow as
+    Kolmogorov's own code (PyMaxflow), exactly, and our side is a cut of that capacity."""
+    maxflow = pytest.importorskip("maxflow")
+    rng = np.random.default_rng(seed)
+    index = np.arange(n ** 3).reshape(n, n, n)
+    edges = np.concatenate([np.c_[index[:-1].ravel(), index[1:].ravel()],
+                            np.c_[index[:, :-1].ravel(), index[:, 1:].ravel()],
+                            np.c_[index[:, :, :-1].ravel(), index[:, :, 1:].ravel()]])
+    forward = rng.integers(1, 101, len(edges)).astype(float)
+    backward = rng.integers(1, 101, len(edges)).astype(float)
+    source, sink = np.zeros(n ** 3), np.zeros(n ** 3)
+    source[index[0].ravel()] = rng.integers(100, 1000, n * n)
+    sink[index[-1].ravel()] = rng.integers(100, 1000, n * n)
+    flow, side = rc.max_flow(n ** 3, edges, forward, backward, source, sink)
+    graph = maxflow.Graph[float](n ** 3, len(edges))
+    graph.add_nodes(n ** 3)
+    graph.add_edges(edges[:, 0], edges[:, 1], forward, backward)
+    graph.add_grid_tedges(np.arange(n ** 3), source, sink)
+    assert flow == graph.maxflow()
+    u, v = edges[:, 0], edges[:, 1]
+    cut = (forward[side[u] & ~side[v]].sum() + backward[side[v] & ~side[u]].sum()
+           + source[~side].sum() + sink[side].sum())
+    assert cut == flow
 
 
 def test_max_flow_known_cut():
