@@ -3,6 +3,9 @@ on random graphs, PyMaxflow on grid graphs, and a graph with a known cut; unorie
 closed, outward manifolds of the right Euler characteristic, their vertices within a fraction of
 a voxel of the true surface; a cloud with a wide gap needs an inside seed; bad input is an
 InputError."""
+import sys
+from pathlib import Path
+
 import networkx as nx
 import numpy as np
 import pytest
@@ -21,20 +24,14 @@ def assert_closed_manifold(V, F, chi):
 
 @pytest.mark.parametrize("n, seed", [(12, 0), (20, 1), (24, 2)])
 def test_max_flow_equals_pymaxflow_on_grid_graphs(n, seed):
-    """Random integer capacities on a 6-connected n³ grid, source and sink on opposite faces (the
-    benchmark's graph, where the search trees and orphans get a workout): the same flow as
-    Kolmogorov's own code (PyMaxflow), exactly, and our side is a cut of that capacity."""
+    """The benchmark's graph (benchmarks/bench_reconstruction.py: random integer capacities on a
+    6-connected n³ grid, source and sink on opposite faces, where the search trees and orphans get
+    a workout): the same flow as Kolmogorov's own code (PyMaxflow), exactly, and our side is a cut
+    of that capacity."""
     maxflow = pytest.importorskip("maxflow")
-    rng = np.random.default_rng(seed)
-    index = np.arange(n ** 3).reshape(n, n, n)
-    edges = np.concatenate([np.c_[index[:-1].ravel(), index[1:].ravel()],
-                            np.c_[index[:, :-1].ravel(), index[:, 1:].ravel()],
-                            np.c_[index[:, :, :-1].ravel(), index[:, :, 1:].ravel()]])
-    forward = rng.integers(1, 101, len(edges)).astype(float)
-    backward = rng.integers(1, 101, len(edges)).astype(float)
-    source, sink = np.zeros(n ** 3), np.zeros(n ** 3)
-    source[index[0].ravel()] = rng.integers(100, 1000, n * n)
-    sink[index[-1].ravel()] = rng.integers(100, 1000, n * n)
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from bench_reconstruction import grid_graph
+    edges, forward, backward, source, sink = grid_graph(n, seed)
     flow, side = rc.max_flow(n ** 3, edges, forward, backward, source, sink)
     graph = maxflow.Graph[float](n ** 3, len(edges))
     graph.add_nodes(n ** 3)

@@ -140,7 +140,12 @@ def icp_multi(scans: Sequence[ArrayLike], *, method: str = "point_to_plane", max
         raise InputError(f"scans has {len(points)} scan(s): expected at least 2")
     poses = None
     if initial is not None:
-        stacked = initial if isinstance(initial, (list, tuple)) else [initial] if np.ndim(initial) == 2 else initial
+        stacked: list[object]
+        if isinstance(initial, (list, tuple)):
+            stacked = list(initial)
+        else:
+            array = np.asarray(initial)
+            stacked = [array] if array.ndim == 2 else list(array) if array.ndim == 3 else [array]
         poses = [_arguments.finite(_arguments.real_array(T, f"initial[{i}]", 4), f"initial[{i}]")
                  for i, T in enumerate(stacked)]
     rounds = _arguments.integer(rounds, "rounds", 0, 1000)
