@@ -17,6 +17,8 @@ and 1000 outliers, onto 8000 clean samples) under a rotation of 30° and a trans
 diagonal: meshsmith's trimmed ICP (trim 0.75) next to Open3D with a distance limit (it has no
 trimming).
 
+Case 4: icp_multi on four partial views of bunny.off with known poses (no peer).
+
 Threads: each library once with all cores and once with one (meshsmith threads=1, Open3D
 utility.set_max_threads(1), small_gicp num_threads=1).
 
@@ -182,6 +184,48 @@ def outlier_case(data: Path) -> None:
         print(f"  open3d: rotation error {angle:.3f}°, displacement {100 * shift:.3f}% of the diagonal")
 
 
+def multi_scan_case(data: Path) -> None:
+    """icp_multi on four partial views of bunny.off (the samples whose normal faces each of four
+    horizontal directions, 0.2% noise, each in its own frame 25° and 5% of the diagonal from the
+    first; starts 10° and 2% off the truth). No peer runs the same multi-view job (Open3D's pose
+    graph needs its pairwise edges set up by hand): figures and checks against the known poses."""
+    V, F = io.read_mesh(data / "bunny.off")
+    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
+    P, N = datasets.sample_points(V, F, 30000, seed=4)
+    rng = np.random.default_rng(5)
+
+    def motion(angle, shift):
+        axis, direction = rng.normal(size=3), rng.normal(size=3)
+        T = np.eye(4)
+        T[:3, :3] = Rotation.from_rotvec(np.radians(angle) * axis / np.linalg.norm(axis)).as_matrix()
+        T[:3, 3] = shift * direction / np.linalg.norm(direction)
+        return T
+
+    scans, poses, starts = [], [], []
+    for k, azimuth in enumerate(np.radians([0.0, 90.0, 180.0, 270.0])):
+        seen = np.flatnonzero(N @ np.array([np.cos(azimuth), 0.0, np.sin(azimuth)]) > -0.1)
+        part = P[rng.permutation(seen)[:4000]] + 0.002 * diagonal * rng.normal(size=(4000, 3))
+        pose = np.eye(4) if k == 0 else motion(25.0, 0.05 * diagonal)
+        scans.append(registration.apply_transform(np.linalg.inv(pose), part))
+        poses.append(pose)
+        starts.append(pose if k == 0 else pose @ motion(10.0, 0.02 * diagonal))
+    bench = Benchmark("registration", "icp_multi, 4 partial views of bunny.off (4,000 points each, 0.2% noise), "
+                      "starts 10° off, point_to_plane, trim 0.6", repeats=5)
+    bench.time("meshsmith", lambda: registration.icp_multi(scans, initial=starts, trim=0.6, max_iterations=100))
+    bench.report()
+    result = bench.output("meshsmith")
+    worst_angle = worst_shift = 0.0
+    for T, G in zip(result.transforms, poses):
+        residual = np.linalg.inv(T) @ G
+        worst_angle = max(worst_angle, float(np.degrees(registration.rotation_angle(residual))))
+        worst_shift = max(worst_shift, float(np.linalg.norm(registration.apply_transform(residual, V) - V, axis=1).max()
+                                             / diagonal))
+    print(f"  icp_multi: {result.rounds} rounds, converged {result.converged}, worst pose error {worst_angle:.3f}° and "
+          f"{100 * worst_shift:.3f}% of the diagonal, RMS / diagonal {np.round(result.rms / diagonal, 5).tolist()}")
+    bench.check("icp_multi worst rotation error (degrees)", worst_angle, 0.5)
+    bench.check("icp_multi worst vertex displacement / diagonal", worst_shift, 0.005)
+
+
 def main() -> None:
     data = shared_data_dir()
     if data is None:
@@ -190,6 +234,7 @@ def main() -> None:
         return
     scan_pair_cases(data)
     outlier_case(data)
+    multi_scan_case(data)
 
 
 if __name__ == "__main__":

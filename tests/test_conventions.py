@@ -166,6 +166,8 @@ RESULTS = {
     "tessellation.crust_3d": (lambda tmp: tessellation.crust_3d(datasets.sphere_points(60).P), ["V", "F"]),
     "registration.icp": (lambda tmp: registration.icp(datasets.sphere_points(40).P, datasets.sphere_points(40).P),
                          ["transform", "rms", "iterations", "converged", "inlier_fraction", "rms_history", "inliers"]),
+    "registration.icp_multi": (lambda tmp: registration.icp_multi([datasets.sphere_points(40).P] * 2, rounds=1),
+                               ["transforms", "rms", "inlier_fraction", "scan_converged", "rounds", "converged"]),
     "reconstruction.depth_to_points": (lambda tmp: reconstruction.depth_to_points(np.ones((3, 4)), 2, 2, 1, 1),
                                        ["points", "pixels"]),
     "reconstruction.depth_to_mesh": (lambda tmp: reconstruction.depth_to_mesh(np.ones((3, 4)), 2, 2, 1, 1),

@@ -1,8 +1,11 @@
 """Graph-cut reconstruction (§2.2, §3.2): Boykov–Kolmogorov max-flow against networkx's minimum_cut
-on random graphs and a graph with a known cut; unoriented samples of a sphere and a torus give
+on random graphs, PyMaxflow on grid graphs, and a graph with a known cut; unoriented samples of a sphere and a torus give
 closed, outward manifolds of the right Euler characteristic, their vertices within a fraction of
 a voxel of the true surface; a cloud with a wide gap needs an inside seed; bad input is an
 InputError."""
+import sys
+from pathlib import Path
+
 import networkx as nx
 import numpy as np
 import pytest
@@ -17,6 +20,28 @@ def assert_closed_manifold(V, F, chi):
     assert topology.boundary_loops(F) == []
     assert topology.euler_characteristic(F) == chi
     assert geometry.volume(V, F) > 0  # outward
+
+
+@pytest.mark.parametrize("n, seed", [(12, 0), (20, 1), (24, 2)])
+def test_max_flow_equals_pymaxflow_on_grid_graphs(n, seed):
+    """The benchmark's graph (benchmarks/bench_reconstruction.py: random integer capacities on a
+    6-connected n³ grid, source and sink on opposite faces, where the search trees and orphans get
+    a workout): the same flow as Kolmogorov's own code (PyMaxflow), exactly, and our side is a cut
+    of that capacity."""
+    maxflow = pytest.importorskip("maxflow")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from bench_reconstruction import grid_graph
+    edges, forward, backward, source, sink = grid_graph(n, seed)
+    flow, side = rc.max_flow(n ** 3, edges, forward, backward, source, sink)
+    graph = maxflow.Graph[float](n ** 3, len(edges))
+    graph.add_nodes(n ** 3)
+    graph.add_edges(edges[:, 0], edges[:, 1], forward, backward)
+    graph.add_grid_tedges(np.arange(n ** 3), source, sink)
+    assert flow == graph.maxflow()
+    u, v = edges[:, 0], edges[:, 1]
+    cut = (forward[side[u] & ~side[v]].sum() + backward[side[v] & ~side[u]].sum()
+           + source[~side].sum() + sink[side].sum())
+    assert cut == flow
 
 
 def test_max_flow_known_cut():

@@ -247,6 +247,142 @@ def test_voxel_downsample_matches_a_numpy_grouping():
     assert np.allclose(registration.voxel_downsample(P, voxel), expected, rtol=0, atol=1e-14)
 
 
+def test_icp_normal_angle_rejects_exactly_the_incompatible_pairs(scan_pair):
+    """Normal compatibility (45°) with a light trim (0.9) rejects most outliers, whose PCA normals
+    point anywhere, and recovers the motion where the light trim alone does not; at the result,
+    the inlier mask is exactly the pairs (closest points by scipy) whose normals differ by at
+    most the angle, as lines, and that the trim keeps."""
+    from scipy.spatial import cKDTree
+    source, target = scan_pair["source"], scan_pair["target"]
+    source_normals = meshsmith.points.estimate_normals(source, k=16)
+    options = dict(method="point_to_plane", trim=0.9, max_iterations=200, target_normals=scan_pair["target_normals"])
+    result = registration.icp(source, target, normal_angle=45.0, source_normals=source_normals, **options)
+    angle, displacement = recovery_errors(result.transform, scan_pair)
+    assert result.converged and angle < 0.5 and displacement < 0.005, (angle, displacement)
+    assert result.inliers[-scan_pair["n_outliers"]:].mean() < 0.15, result.inliers[-scan_pair["n_outliers"]:].mean()
+    assert result.inliers[:-scan_pair["n_outliers"]].mean() > 0.8
+    moved = registration.apply_transform(result.transform, source)
+    distance, nearest = cKDTree(target).query(moved)
+    turned = source_normals @ result.transform[:3, :3].T
+    cosine = np.abs(np.einsum("ij,ij->i", turned, scan_pair["target_normals"][nearest]))
+    compatible = cosine >= np.cos(np.radians(45.0))
+    cut = np.sort(distance[compatible])[int(np.ceil(0.9 * compatible.sum())) - 1]
+    expected = compatible & (distance <= cut)
+    assert (result.inliers != expected).sum() <= 2, (result.inliers != expected).sum()   # ties at a threshold only
+    # The light trim alone lets the outliers pull the answer off: the normal test is what helps.
+    plain = registration.icp(source, target, **options)
+    assert recovery_errors(plain.transform, scan_pair)[1] > 2 * displacement
+
+
+def test_icp_normal_angle_estimates_missing_normals_and_rejects_bad_values(scan_pair):
+    source, target = scan_pair["source"], scan_pair["target"]
+    result = registration.icp(source, target, normal_angle=45.0, trim=0.9, max_iterations=200)   # point-to-point
+    angle, displacement = recovery_errors(result.transform, scan_pair)
+    assert angle < 0.5 and displacement < 0.005, (angle, displacement)
+    for bad in (0.0, -5.0, 91.0, float("nan")):
+        with pytest.raises(InputError, match="normal_angle"):
+            registration.icp(source, target, normal_angle=bad)
+    with pytest.raises(InputError, match="source_normals\\[0\\]"):
+        registration.icp(source, target, normal_angle=10.0, source_normals=np.zeros_like(source))
+    with pytest.raises(InputError, match="rows"):
+        registration.icp(source, target, normal_angle=10.0, source_normals=np.ones((5, 3)))
+
+
+# ---- several scans --------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def views(data_dir):
+    """Four partial 'scans' of the shared bunny seen from four sides (the samples whose outward
+    normal faces the view), each with 0.2% noise, in its own frame: scan i = pose_i⁻¹ · points
+    (pose_0 the identity, the others 25° and 5% of the diagonal away); the start poses are the
+    true ones perturbed by 10° and 2% of the diagonal."""
+    V, F = io.read_mesh(data_dir / "bunny.off")
+    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
+    P, N = datasets.sample_points(V, F, 30000, seed=4)
+    rng = np.random.default_rng(5)
+    scans, poses, starts = [], [], []
+    for k, azimuth in enumerate(np.radians([0.0, 90.0, 180.0, 270.0])):
+        view = np.array([np.cos(azimuth), 0.0, np.sin(azimuth)])      # bunny.off's up axis is y
+        seen = np.flatnonzero(N @ view > -0.1)
+        part = P[rng.permutation(seen)[:4000]]
+        part = part + 0.002 * diagonal * rng.normal(size=part.shape)
+        pose = np.eye(4) if k == 0 else random_motion(rng, 25.0, 0.05 * diagonal)
+        scans.append(registration.apply_transform(np.linalg.inv(pose), part))
+        poses.append(pose)
+        starts.append(pose if k == 0 else pose @ random_motion(rng, 10.0, 0.02 * diagonal))
+    return dict(V=V, diagonal=diagonal, scans=scans, poses=np.array(poses), starts=np.array(starts))
+
+
+def pose_errors(found, truth, V, diagonal):
+    """Per scan: the angle (degrees) of found⁻¹ · truth and the largest displacement of a mesh vertex / diagonal."""
+    out = []
+    for T, G in zip(found, truth):
+        residual = np.linalg.inv(T) @ G
+        moved = registration.apply_transform(residual, V)
+        out.append((np.degrees(registration.rotation_angle(residual)),
+                    np.linalg.norm(moved - V, axis=1).max() / diagonal))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("method", registration.ICP_METHODS)
+def test_icp_multi_recovers_known_poses_of_partial_scans(views, method):
+    result = registration.icp_multi(views["scans"], method=method, initial=views["starts"], trim=0.6,
+                                    max_iterations=100)
+    errors = pose_errors(result.transforms, views["poses"], views["V"], views["diagonal"])
+    assert np.array_equal(result.transforms[0], np.eye(4))
+    assert (errors[:, 0] < 0.5).all() and (errors[:, 1] < 0.005).all(), errors
+    assert result.converged and result.scan_converged.all() and 1 <= result.rounds <= 10
+    assert result.transforms.shape == (4, 4, 4) and result.rms.shape == (4,)
+    assert (result.rms < 0.01 * views["diagonal"]).all(), result.rms / views["diagonal"]   # noise is 0.2%
+    # The start was off by 10°: the sequential pass alone is already close, the rounds do not hurt.
+    start_errors = pose_errors(views["starts"], views["poses"], views["V"], views["diagonal"])
+    assert (start_errors[1:, 0] > 5).all()
+
+
+def test_icp_multi_is_deterministic_and_reduces_once(views):
+    runs = [registration.icp_multi(views["scans"], initial=views["starts"], voxel_size=0.01 * views["diagonal"],
+                                   threads=threads) for threads in (1, None)]
+    assert np.array_equal(runs[0].transforms, runs[1].transforms) and np.array_equal(runs[0].rms, runs[1].rms)
+    errors = pose_errors(runs[0].transforms, views["poses"], views["V"], views["diagonal"])
+    assert (errors[:, 0] < 0.5).all() and (errors[:, 1] < 0.005).all(), errors
+
+
+def test_icp_multi_bunny_scans_as_stanford_aligned_them(data_dir):
+    """bun000 and bun045 into bun000's frame: the second transform is Stanford's bun.conf pose."""
+    scans = [io.read_points(data_dir / name)[0] for name in ("bun000.ply", "bun045.ply")]
+    truth = np.eye(4)
+    truth[:3, :3] = Rotation.from_quat([0.00548449, -0.294635, -0.0038555, 0.955586]).as_matrix().T
+    truth[:3, 3] = [-0.0520211, -0.000383981, -0.0109223]
+    result = registration.icp_multi(scans, trim=0.8, max_iterations=100)
+    assert result.converged
+    assert np.array_equal(result.transforms[0], np.eye(4))
+    assert np.degrees(registration.rotation_angle(np.linalg.inv(truth) @ result.transforms[1])) < 0.2
+    displacement = np.linalg.norm(registration.apply_transform(result.transforms[1], scans[1])
+                                  - registration.apply_transform(truth, scans[1]), axis=1).max()
+    assert displacement < 0.001 * 0.2474 * 2
+    assert (result.rms < 0.0005).all(), result.rms
+
+
+def test_icp_multi_reports_non_convergence_and_rejects_bad_input(views):
+    scans = views["scans"][:2]
+    result = registration.icp_multi(scans, initial=views["starts"][:2], max_iterations=1, rounds=0)
+    assert not result.converged and not result.scan_converged[1] and result.rounds == 0
+    with pytest.raises(InputError, match="at least 2"):
+        registration.icp_multi(scans[:1])
+    with pytest.raises(InputError, match="initial has 3 transforms for 2 scans"):
+        registration.icp_multi(scans, initial=views["starts"][:3])
+    with pytest.raises(InputError, match="scans\\[1\\]"):
+        registration.icp_multi([scans[0], np.full((5, 3), np.nan)])
+    with pytest.raises(InputError, match="scans\\[0\\] has 1 point"):
+        registration.icp_multi([scans[0], scans[1]], voxel_size=10 * views["diagonal"])
+    with pytest.raises(InputError, match="rounds"):
+        registration.icp_multi(scans, rounds=-1)
+    with pytest.raises(InputError, match="scan 1: max_distance"):
+        registration.icp_multi(scans, max_distance=1e-9)
+    with pytest.raises(InputError, match="voxel_size"):
+        registration.icp_multi(scans, voxel_size=0.0)
+
+
 # ---- command line ---------------------------------------------------------------------------
 
 def test_register_command_writes_the_transform_and_the_moved_source(tmp_path, capsys):

@@ -8,6 +8,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include <memory>
+#include <vector>
 #include <string>
 
 namespace meshsmith::python {
@@ -28,6 +29,36 @@ registration::Transform transform_argument(const py::handle& value, const char* 
   return Eigen::Map<const RowTransform>(array.data());
 }
 
+/// run() without the GIL, with TBB capped at `threads` (None: no cap). \throw InputError for a bad count.
+template <typename Run>
+auto with_threads(const py::object& threads, Run&& run) {
+  const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
+  return without_gil([&] {
+    std::unique_ptr<tbb::global_control> limit;
+    if (thread_count > 0)
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<std::size_t>(thread_count));
+    return run();
+  });
+}
+
+registration::IcpOptions icp_options(const std::string& method, const py::object& max_iterations, double tolerance,
+                                     double max_distance, double trim, double voxel_size, double normal_angle,
+                                     const py::object& normal_neighbours) {
+  registration::IcpOptions options;
+  options.method = parse_choice<registration::IcpMethod>(
+      method, "method", {{"point_to_point", registration::IcpMethod::point_to_point},
+                         {"point_to_plane", registration::IcpMethod::point_to_plane}});
+  options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 1);
+  options.tolerance = tolerance;
+  options.max_distance = max_distance;
+  options.trim = trim;
+  options.voxel_size = voxel_size;
+  options.normal_angle = normal_angle;
+  options.normal_neighbours = integer_argument<int>(normal_neighbours, "normal_neighbours", 3, 10000);
+  return options;
+}
+
 }  // namespace
 
 void bind_registration(py::module_& m) {
@@ -44,31 +75,23 @@ void bind_registration(py::module_& m) {
   m.def("icp", [](const py::object& source, const py::object& target, const py::object& target_normals,
                   const std::string& method, const py::object& max_iterations, double tolerance,
                   double max_distance, double trim, double voxel_size, const py::object& normal_neighbours,
-                  const py::object& initial, const py::object& threads, const py::object& callback) {
+                  const py::object& initial, const py::object& threads, const py::object& callback,
+                  const py::object& source_normals, double normal_angle) {
     auto s = as_real_matrix(source, "source", 3);
     auto t = as_real_matrix(target, "target", 3);
-    RealArray normals = target_normals.is_none() ? RealArray(std::vector<py::ssize_t>{0, 3})
-                                                 : as_real_matrix(target_normals, "target_normals", 3);
-    registration::IcpOptions options;
-    options.method = parse_choice<registration::IcpMethod>(
-        method, "method", {{"point_to_point", registration::IcpMethod::point_to_point},
-                           {"point_to_plane", registration::IcpMethod::point_to_plane}});
-    options.max_iterations = integer_argument<int>(max_iterations, "max_iterations", 1);
-    options.tolerance = tolerance;
-    options.max_distance = max_distance;
-    options.trim = trim;
-    options.voxel_size = voxel_size;
-    options.normal_neighbours = integer_argument<int>(normal_neighbours, "normal_neighbours", 3, 10000);
+    auto normals_of = [](const py::object& value, const char* name) {
+      return value.is_none() ? RealArray(std::vector<py::ssize_t>{0, 3}) : as_real_matrix(value, name, 3);
+    };
+    RealArray normals = normals_of(target_normals, "target_normals");
+    RealArray s_normals = normals_of(source_normals, "source_normals");
+    registration::IcpOptions options = icp_options(method, max_iterations, tolerance, max_distance, trim, voxel_size,
+                                                   normal_angle, normal_neighbours);
     if (!initial.is_none()) options.initial = transform_argument(initial, "initial");
-    const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
     Progress progress = make_progress(callback);
-    auto result = without_gil([&] {
-      std::unique_ptr<tbb::global_control> limit;
-      if (thread_count > 0)
-        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                      static_cast<std::size_t>(thread_count));
+    auto result = with_threads(threads, [&] {
       const Eigen::Map<const VertexMatrix> n_view(normals.data(), normals.shape(0), 3);
-      return registration::icp(map_vertices(s), map_vertices(t), n_view, options, progress);
+      const Eigen::Map<const VertexMatrix> sn_view(s_normals.data(), s_normals.shape(0), 3);
+      return registration::icp(map_vertices(s), map_vertices(t), sn_view, n_view, options, progress);
     });
     py::array_t<bool> inliers(static_cast<py::ssize_t>(result.inliers.size()));
     auto view = inliers.mutable_unchecked<1>();
@@ -80,8 +103,51 @@ void bind_registration(py::module_& m) {
      py::arg("method") = "point_to_point", py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6,
      py::arg("max_distance") = 0.0, py::arg("trim") = 1.0, py::arg("voxel_size") = 0.0,
      py::arg("normal_neighbours") = 16, py::arg("initial") = py::none(), py::arg("threads") = py::none(),
-     py::arg("progress") = py::none(),
+     py::arg("progress") = py::none(), py::arg("source_normals") = py::none(), py::arg("normal_angle") = 0.0,
      "(transform, rms, iterations, converged, inlier_fraction, rms_history, inliers) of rigid ICP (§2.3.1).");
+
+  m.def("icp_multi", [](const py::sequence& scans, const std::string& method, const py::object& max_iterations,
+                        double tolerance, double max_distance, double trim, double voxel_size, double normal_angle,
+                        const py::object& normal_neighbours, const py::object& initial, const py::object& rounds,
+                        double round_tolerance, const py::object& threads, const py::object& callback) {
+    registration::IcpMultiOptions options;
+    options.icp = icp_options(method, max_iterations, tolerance, max_distance, trim, voxel_size, normal_angle,
+                              normal_neighbours);
+    options.rounds = integer_argument<int>(rounds, "rounds", 0, 1000);
+    options.round_tolerance = round_tolerance;
+    std::vector<VertexMatrix> points;
+    points.reserve(py::len(scans));
+    for (std::size_t i = 0; i < py::len(scans); ++i) {
+      const std::string name = "scans[" + std::to_string(i) + "]";
+      auto array = as_real_matrix(scans[i], name.c_str(), 3);
+      points.emplace_back(map_vertices(array));
+    }
+    if (!initial.is_none()) {
+      const py::sequence poses = py::reinterpret_borrow<py::sequence>(initial);
+      for (std::size_t i = 0; i < py::len(poses); ++i) {
+        const std::string name = "initial[" + std::to_string(i) + "]";
+        options.initial.push_back(transform_argument(poses[i], name.c_str()));
+      }
+    }
+    Progress progress = make_progress(callback);
+    auto result = with_threads(threads, [&] { return registration::icp_multi(points, options, progress); });
+    const auto k = static_cast<py::ssize_t>(result.transforms.size());
+    py::array_t<double> transforms({k, py::ssize_t(4), py::ssize_t(4)});
+    auto t_view = transforms.mutable_unchecked<3>();
+    for (py::ssize_t i = 0; i < k; ++i)
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) t_view(i, r, c) = result.transforms[std::size_t(i)](r, c);
+    py::array_t<bool> converged(k);
+    auto c_view = converged.mutable_unchecked<1>();
+    for (py::ssize_t i = 0; i < k; ++i) c_view(i) = result.scan_converged[std::size_t(i)] != 0;
+    return py::make_tuple(transforms, py::array_t<double>(k, result.rms.data()),
+                          py::array_t<double>(k, result.inlier_fraction.data()), converged, result.rounds,
+                          result.converged);
+  }, py::arg("scans"), py::arg("method") = "point_to_point", py::arg("max_iterations") = 50,
+     py::arg("tolerance") = 1e-6, py::arg("max_distance") = 0.0, py::arg("trim") = 1.0, py::arg("voxel_size") = 0.0,
+     py::arg("normal_angle") = 0.0, py::arg("normal_neighbours") = 16, py::arg("initial") = py::none(),
+     py::arg("rounds") = 10, py::arg("round_tolerance") = 1e-3, py::arg("threads") = py::none(), py::arg("progress") = py::none(),
+     "(transforms, rms, inlier_fraction, scan_converged, rounds, converged) of multi-scan ICP (§2.3.1).");
 
   m.def("voxel_downsample", [](const py::object& P, double voxel_size) {
     auto points = as_real_matrix(P, "P", 3);

@@ -44,8 +44,9 @@ using NanoflannTree =
 class StrictKnnResultSet {
  public:
   using DistanceType = double;
-  StrictKnnResultSet(std::size_t capacity, std::uint32_t* indices, double* distances)
-      : indices_(indices), distances_(distances), capacity_(capacity) {
+  StrictKnnResultSet(std::size_t capacity, std::uint32_t* indices, double* distances,
+                     double bound = std::numeric_limits<double>::max())
+      : indices_(indices), distances_(distances), capacity_(capacity), bound_(bound) {
     distances_[capacity_ - 1] = std::numeric_limits<double>::max();
   }
   std::size_t size() const { return count_; }
@@ -85,7 +86,34 @@ class StrictKnnResultSet {
   double* distances_;
   std::size_t capacity_;
   std::size_t count_ = 0;
-  double bound_ = std::numeric_limits<double>::max();
+  double bound_;
+};
+
+/// The single nearest point below a squared-distance bound (KdTree::nearest_within): the bound
+/// shrinks to just below each point taken, so subtrees at exactly the best distance are pruned
+/// (as in StrictKnnResultSet) and the first point in the search's order among equals is kept.
+class NearestBelowResultSet {
+ public:
+  using DistanceType = double;
+  explicit NearestBelowResultSet(double bound) : bound_(bound) {}
+  std::size_t size() const { return found_ ? 1 : 0; }
+  bool full() const { return found_; }
+  bool addPoint(double distance, std::uint32_t index) {
+    if (distance < bound_ && !(found_ && distance >= best_)) {
+      best_ = distance, index_ = index, found_ = true;
+      bound_ = StrictKnnResultSet::just_below(distance);
+    }
+    return true;
+  }
+  double worstDist() const { return bound_; }
+  double best() const { return best_; }
+  std::uint32_t index() const { return index_; }
+
+ private:
+  double bound_;
+  double best_ = std::numeric_limits<double>::infinity();
+  std::uint32_t index_ = 0;
+  bool found_ = false;
 };
 
 /// Normalized coordinates of a query point, its distance from the origin capped at about 2^27
@@ -174,12 +202,22 @@ KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
 int KdTree::nearest(const double* query, int k, std::uint32_t* indices,
-                    double* squared_distances) const {
+                    double* squared_distances, double squared_bound) const {
   const std::size_t wanted = std::min(static_cast<std::size_t>(k), static_cast<std::size_t>(size()));
-  if (wanted == 0) return 0;
-  StrictKnnResultSet found(wanted, indices, squared_distances);
+  if (wanted == 0 || !(squared_bound > 0.0)) return 0;
+  StrictKnnResultSet found(wanted, indices, squared_distances, std::min(squared_bound, std::numeric_limits<double>::max()));
   impl_->tree->findNeighbors(found, query, nanoflann::SearchParams());
   return static_cast<int>(found.size());
+}
+
+bool KdTree::nearest_within(const double* query, double squared_bound, std::uint32_t& index,
+                            double& squared_distance) const {
+  if (size() == 0 || !(squared_bound > 0.0)) return false;
+  NearestBelowResultSet found(std::min(squared_bound, std::numeric_limits<double>::max()));
+  impl_->tree->findNeighbors(found, query, nanoflann::SearchParams());
+  if (!found.full()) return false;
+  index = found.index(), squared_distance = found.best();
+  return true;
 }
 
 void KdTree::within_radius(const double* query, double squared_radius,

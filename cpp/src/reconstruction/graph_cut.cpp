@@ -9,16 +9,28 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <string>
 
 namespace meshsmith::reconstruction {
 
+// Max-flow: Boykov & Kolmogorov, "An experimental comparison of min-cut/max-flow algorithms for
+// energy minimization in vision", PAMI 2004. The layout follows what made Kolmogorov's own code
+// fast: one 32-byte record per node (all it needs in the inner loops in one cache line), the arcs
+// of a node contiguous (compressed rows, built once at solve(); each arc knows its sister and
+// keeps a copy of the sister's residual, so the sink tree's growth and the source tree's
+// adoption, which test the reverse direction, read the node's own row and not the neighbours'), the
+// active nodes in an intrusive FIFO through the node records, the orphans in a FIFO, and the
+// "timestamp / distance" heuristic: a node's distance to its terminal is trusted when its stamp
+// equals the current time, so the adoption's walk towards the root stops at the first node
+// already checked in this round, and the growth re-parents a node onto a path that is known to
+// be shorter (stamp no newer, distance smaller).
+
 namespace {
 using Int = std::int64_t;
-constexpr Int kNone = -3, kOrphan = -2, kTerminal = -1;  // parent_ values that are not arcs
-constexpr Int kFar = std::numeric_limits<Int>::max() / 4;
+constexpr std::int32_t kNone = -3, kOrphan = -2, kTerminal = -1;  // parent values that are not arcs
+constexpr std::int32_t kFar = std::numeric_limits<std::int32_t>::max();
+constexpr Int kMaxNodes = (Int(1) << 31) - 2, kMaxEdges = (Int(1) << 30) - 1;
 
 void check_capacity(double value, const char* what) {
   if (!(value >= 0.0) || !std::isfinite(value))
@@ -27,12 +39,11 @@ void check_capacity(double value, const char* what) {
 }  // namespace
 
 MaxFlow::MaxFlow(Int nodes, Int edges_hint) {
-  if (nodes < 0) throw InputError("MaxFlow: negative node count " + std::to_string(nodes));
-  const auto n = static_cast<std::size_t>(nodes);
-  first_.assign(n, -1), parent_.assign(n, kNone), next_active_.assign(n, 0), stamp_.assign(n, 0);
-  distance_.assign(n, 0), tree_.assign(n, 0), terminal_.assign(n, 0.0);
-  const auto arcs = static_cast<std::size_t>(std::max<Int>(0, 2 * edges_hint));
-  head_.reserve(arcs), next_.reserve(arcs), residual_.reserve(arcs);
+  if (nodes < 0 || nodes > kMaxNodes)
+    throw InputError("MaxFlow: node count " + std::to_string(nodes) + ": expected 0 to 2^31 - 2");
+  nodes_.resize(static_cast<std::size_t>(nodes) + 1);
+  const auto edges = static_cast<std::size_t>(std::clamp<Int>(edges_hint, 0, kMaxEdges));
+  edge_tail_.reserve(edges), edge_head_.reserve(edges), edge_forward_.reserve(edges), edge_backward_.reserve(edges);
 }
 
 void MaxFlow::add_edge(Int u, Int v, double forward, double backward) {
@@ -42,10 +53,11 @@ void MaxFlow::add_edge(Int u, Int v, double forward, double backward) {
                      std::to_string(n) + ")");
   check_capacity(forward, "forward");
   check_capacity(backward, "backward");
-  const Int a = static_cast<Int>(head_.size());
-  head_.push_back(v), next_.push_back(first_[static_cast<std::size_t>(u)]), residual_.push_back(forward);
-  head_.push_back(u), next_.push_back(first_[static_cast<std::size_t>(v)]), residual_.push_back(backward);
-  first_[static_cast<std::size_t>(u)] = a, first_[static_cast<std::size_t>(v)] = a + 1;
+  if (!arcs_.empty()) to_edges();
+  if (static_cast<Int>(edge_tail_.size()) >= kMaxEdges)
+    throw InputError("MaxFlow: more than 2^30 - 1 edges");
+  edge_tail_.push_back(static_cast<std::int32_t>(u)), edge_head_.push_back(static_cast<std::int32_t>(v));
+  edge_forward_.push_back(forward), edge_backward_.push_back(backward);
   solved_ = false;
 }
 
@@ -55,7 +67,7 @@ void MaxFlow::add_terminal(Int u, double source, double sink) {
   check_capacity(source, "source");
   check_capacity(sink, "sink");
   // Only the difference matters: min(source, sink) flows straight through u.
-  double& t = terminal_[static_cast<std::size_t>(u)];
+  double& t = nodes_[static_cast<std::size_t>(u)].terminal;
   const double s = source + std::max(t, 0.0), k = sink + std::max(-t, 0.0);
   flow_ += std::min(s, k) - std::min(std::max(t, 0.0), std::max(-t, 0.0));
   t = s - k;
@@ -64,132 +76,203 @@ void MaxFlow::add_terminal(Int u, double source, double sink) {
 
 bool MaxFlow::source_side(Int u) const {
   if (u < 0 || u >= node_count()) throw InputError("node " + std::to_string(u) + " out of range");
-  return tree_[static_cast<std::size_t>(u)] == 1;
+  return nodes_[static_cast<std::size_t>(u)].tree == 1;
+}
+
+void MaxFlow::to_rows() {
+  const std::size_t n = static_cast<std::size_t>(node_count()), m = edge_tail_.size();
+  for (Node& node : nodes_) node.first = 0;
+  for (std::size_t e = 0; e < m; ++e) ++nodes_[std::size_t(edge_tail_[e]) + 1].first, ++nodes_[std::size_t(edge_head_[e]) + 1].first;
+  for (std::size_t u = 0; u < n; ++u) nodes_[u + 1].first += nodes_[u].first;
+  arcs_.resize(2 * m);
+  // Each row in reverse order of addition (the order Kolmogorov's linked lists scan arcs in:
+  // on grid graphs it finds shorter augmenting paths than the order of addition, measured).
+  std::vector<std::int32_t> fill(n);
+  for (std::size_t u = 0; u < n; ++u) fill[u] = nodes_[u + 1].first;
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::int32_t u = edge_tail_[e], v = edge_head_[e];
+    const std::int32_t a = --fill[std::size_t(u)], b = --fill[std::size_t(v)];
+    arcs_[std::size_t(a)] = {v, b, edge_forward_[e], edge_backward_[e]};
+    arcs_[std::size_t(b)] = {u, a, edge_backward_[e], edge_forward_[e]};
+  }
+  std::vector<std::int32_t>().swap(edge_tail_), std::vector<std::int32_t>().swap(edge_head_);
+  std::vector<double>().swap(edge_forward_), std::vector<double>().swap(edge_backward_);
+}
+
+void MaxFlow::to_edges() {
+  const std::size_t n = static_cast<std::size_t>(node_count());
+  for (std::size_t u = 0; u < n; ++u)
+    for (std::int32_t a = nodes_[u].first; a < nodes_[u + 1].first; ++a) {
+      const Arc& arc = arcs_[std::size_t(a)];
+      if (a > arc.sister) continue;  // each pair once, from the arc stored first
+      edge_tail_.push_back(static_cast<std::int32_t>(u)), edge_head_.push_back(arc.head);
+      edge_forward_.push_back(arc.residual), edge_backward_.push_back(arc.reverse);
+    }
+  std::vector<Arc>().swap(arcs_);
 }
 
 double MaxFlow::solve(const Progress& progress) {
   if (solved_) return flow_;
-  const Int n = node_count();
-  auto at = [](auto& vector, Int i) -> auto& { return vector[static_cast<std::size_t>(i)]; };
-  std::deque<Int> active, orphans;
-  std::vector<std::int8_t> queued(static_cast<std::size_t>(n), 0);
-  auto activate = [&](Int u) {
-    if (!at(queued, u)) at(queued, u) = 1, active.push_back(u);
+  if (arcs_.empty()) to_rows();
+  const std::int32_t n = static_cast<std::int32_t>(node_count());
+  Node* const node = nodes_.data();
+  Arc* const arc = arcs_.data();
+  // The FIFO of active nodes, linked through Node::next_active.
+  std::int32_t active_first = -1, active_last = -1;
+  auto activate = [&](std::int32_t u) {
+    if (node[u].next_active != -1) return;
+    node[u].next_active = u;
+    if (active_last >= 0) node[active_last].next_active = u;
+    else active_first = u;
+    active_last = u;
   };
-  for (Int u = 0; u < n; ++u) {
-    const double t = at(terminal_, u);
-    at(tree_, u) = t > 0.0 ? 1 : t < 0.0 ? 2 : 0;
-    at(parent_, u) = t != 0.0 ? kTerminal : kNone;
-    at(stamp_, u) = 0, at(distance_, u) = 1;
-    if (t != 0.0) activate(u);
+  auto next_active = [&]() -> std::int32_t {  // the first queued node still in a tree, dequeued
+    while (active_first >= 0) {
+      const std::int32_t u = active_first, after = node[u].next_active;
+      active_first = after == u ? -1 : after;
+      if (active_first < 0) active_last = -1;
+      node[u].next_active = -1;
+      if (node[u].tree != 0) return u;
+    }
+    return -1;
+  };
+  for (std::int32_t u = 0; u < n; ++u) {
+    Node& x = node[u];
+    x.tree = x.terminal > 0.0 ? 1 : x.terminal < 0.0 ? 2 : 0;
+    x.parent = x.tree != 0 ? kTerminal : kNone;
+    x.stamp = 0, x.distance = 1, x.next_active = -1;
   }
-  Int time = 0, augmentations = 0;
-  auto make_orphan = [&](Int u) { at(parent_, u) = kOrphan, orphans.push_back(u); };
-  // The residual capacity of the arc a in the direction a tree of kind `tree` grows along it.
-  auto open = [&](Int a, std::int8_t tree) { return tree == 1 ? at(residual_, a) > 0.0 : at(residual_, a ^ 1) > 0.0; };
-
+  for (std::int32_t u = 0; u < n; ++u)
+    if (node[u].tree != 0) activate(u);
+  // Orphans: those of an augmenting path are adopted in reverse order of their discovery (the
+  // ones nearest their terminal first: their subtrees hold the others), each together with the
+  // orphans its adoption makes (its freed children, FIFO) before the next, as Kolmogorov's code.
+  std::vector<std::int32_t> path_orphans, orphans;
+  std::size_t orphan_next = 0;
+  auto make_orphan = [&](std::int32_t u) { node[u].parent = kOrphan, orphans.push_back(u); };
+  auto path_orphan = [&](std::int32_t u) { node[u].parent = kOrphan, path_orphans.push_back(u); };
+  std::int32_t time = 0;
+  Int augmentations = 0;
+  // Open towards the tree's growth: source tree along a (a's residual), sink tree against it.
+  auto open = [&](std::int32_t a, std::int8_t tree) {
+    return (tree == 1 ? arc[a].residual : arc[a].reverse) > 0.0;
+  };
+  // Sends `amount` along arc a (its sister gains it); true if a is then saturated.
+  auto send = [&](std::int32_t a, double amount) {
+    Arc& x = arc[a];
+    Arc& y = arc[x.sister];
+    double left = x.residual - amount;
+    const bool saturated = left <= 0.0;
+    if (saturated) left = 0.0;
+    x.residual = y.reverse = left;
+    y.residual += amount, x.reverse = y.residual;
+    return saturated;
+  };
+  std::int32_t current = -1;  // a node whose growth met the other tree: it is scanned again
   while (true) {
-    while (!active.empty() && at(tree_, active.front()) == 0) at(queued, active.front()) = 0, active.pop_front();
-    if (active.empty()) break;
-    const Int i = active.front();
-    const std::int8_t tree = at(tree_, i);
-    Int meeting = -1;  // an arc from a source-tree node to a sink-tree node
-    for (Int a = at(first_, i); a != -1; a = at(next_, a)) {
+    const std::int32_t i = current >= 0 && node[current].tree != 0 ? current : next_active();
+    current = -1;
+    if (i < 0) break;
+    const std::int8_t tree = node[i].tree;
+    std::int32_t meeting = -1;  // an arc from a source-tree node to a sink-tree node
+    for (std::int32_t a = node[i].first, end = node[i + 1].first; a < end; ++a) {
       if (!open(a, tree)) continue;
-      const Int j = at(head_, a);
-      const std::int8_t other = at(tree_, j);
-      if (other == 0) {
-        at(tree_, j) = tree, at(parent_, j) = a ^ 1, at(stamp_, j) = at(stamp_, i);
-        at(distance_, j) = at(distance_, i) + 1;
+      const std::int32_t j = arc[a].head;
+      Node& y = node[j];
+      if (y.tree == 0) {
+        y.tree = tree, y.parent = arc[a].sister, y.stamp = node[i].stamp, y.distance = node[i].distance + 1;
         activate(j);
-      } else if (other != tree) {
-        meeting = tree == 1 ? a : a ^ 1;
+      } else if (y.tree != tree) {
+        meeting = tree == 1 ? a : arc[a].sister;
         break;
-      } else if (at(stamp_, j) <= at(stamp_, i) && at(distance_, j) > at(distance_, i)) {
-        at(parent_, j) = a ^ 1, at(stamp_, j) = at(stamp_, i), at(distance_, j) = at(distance_, i) + 1;
+      } else if (y.stamp <= node[i].stamp && y.distance > node[i].distance) {
+        y.parent = arc[a].sister, y.stamp = node[i].stamp, y.distance = node[i].distance + 1;
       }
     }
-    ++time;
-    if (meeting == -1) {
-      at(queued, i) = 0, active.pop_front();
-      continue;
+    if (++time == kFar) {  // the stamps would overflow: restart them (the heuristic only)
+      for (std::int32_t u = 0; u < n; ++u) node[u].stamp = 0;
+      time = 1;
     }
+    if (meeting == -1) continue;
+    current = i;
     // Augment along source → tail(meeting) → head(meeting) → sink.
-    const Int tail = at(head_, meeting ^ 1), head = at(head_, meeting);
-    double bottleneck = at(residual_, meeting);
-    for (Int u = tail;;) {
-      const Int pa = at(parent_, u);
-      if (pa == kTerminal) { bottleneck = std::min(bottleneck, at(terminal_, u)); break; }
-      bottleneck = std::min(bottleneck, at(residual_, pa ^ 1));
-      u = at(head_, pa);
+    const std::int32_t tail = arc[arc[meeting].sister].head, head = arc[meeting].head;
+    double bottleneck = arc[meeting].residual;
+    for (std::int32_t u = tail;;) {
+      const std::int32_t pa = node[u].parent;
+      if (pa == kTerminal) { bottleneck = std::min(bottleneck, node[u].terminal); break; }
+      bottleneck = std::min(bottleneck, arc[pa].reverse);
+      u = arc[pa].head;
     }
-    for (Int u = head;;) {
-      const Int pa = at(parent_, u);
-      if (pa == kTerminal) { bottleneck = std::min(bottleneck, -at(terminal_, u)); break; }
-      bottleneck = std::min(bottleneck, at(residual_, pa));
-      u = at(head_, pa);
+    for (std::int32_t u = head;;) {
+      const std::int32_t pa = node[u].parent;
+      if (pa == kTerminal) { bottleneck = std::min(bottleneck, -node[u].terminal); break; }
+      bottleneck = std::min(bottleneck, arc[pa].residual);
+      u = arc[pa].head;
     }
-    at(residual_, meeting) -= bottleneck, at(residual_, meeting ^ 1) += bottleneck;
-    for (Int u = tail;;) {
-      const Int pa = at(parent_, u);
+    send(meeting, bottleneck);
+    for (std::int32_t u = tail;;) {
+      const std::int32_t pa = node[u].parent;
       if (pa == kTerminal) {
-        if ((at(terminal_, u) -= bottleneck) <= 0.0) at(terminal_, u) = 0.0, make_orphan(u);
+        if ((node[u].terminal -= bottleneck) <= 0.0) node[u].terminal = 0.0, path_orphan(u);
         break;
       }
-      const Int up = at(head_, pa);
-      at(residual_, pa) += bottleneck;
-      if ((at(residual_, pa ^ 1) -= bottleneck) <= 0.0) at(residual_, pa ^ 1) = 0.0, make_orphan(u);
+      const std::int32_t up = arc[pa].head;
+      if (send(arc[pa].sister, bottleneck)) path_orphan(u);  // along parent → u
       u = up;
     }
-    for (Int u = head;;) {
-      const Int pa = at(parent_, u);
+    for (std::int32_t u = head;;) {
+      const std::int32_t pa = node[u].parent;
       if (pa == kTerminal) {
-        if ((at(terminal_, u) += bottleneck) >= 0.0) at(terminal_, u) = 0.0, make_orphan(u);
+        if ((node[u].terminal += bottleneck) >= 0.0) node[u].terminal = 0.0, path_orphan(u);
         break;
       }
-      const Int up = at(head_, pa);
-      at(residual_, pa ^ 1) += bottleneck;
-      if ((at(residual_, pa) -= bottleneck) <= 0.0) at(residual_, pa) = 0.0, make_orphan(u);
+      const std::int32_t up = arc[pa].head;
+      if (send(pa, bottleneck)) path_orphan(u);  // along u → parent
       u = up;
     }
     flow_ += bottleneck;
-    // Adoption: each orphan looks for a parent in its tree with an open arc and a path to the terminal.
-    ++time;
-    while (!orphans.empty()) {
-      const Int u = orphans.front();
-      orphans.pop_front();
-      const std::int8_t t = at(tree_, u);
-      Int best = -1, best_distance = kFar;
-      for (Int a = at(first_, u); a != -1; a = at(next_, a)) {
-        if (!open(a ^ 1, t)) continue;  // the arc from the candidate parent towards u (source tree) or u → it (sink tree)
-        const Int j = at(head_, a);
-        if (at(tree_, j) != t || at(parent_, j) == kNone) continue;
-        Int d = 0, k = j;
-        while (true) {
-          if (at(stamp_, k) == time) { d += at(distance_, k); break; }
-          const Int pk = at(parent_, k);
-          ++d;
-          if (pk == kTerminal) { at(stamp_, k) = time, at(distance_, k) = 1; break; }
-          if (pk == kOrphan) { d = kFar; break; }
-          k = at(head_, pk);
+    // Adoption: each orphan looks for a parent in its tree with an open arc to it
+    // and a path to the terminal (the shortest by the stamped distances); failing that it is
+    // freed, its children become orphans and its tree neighbours that could reach it active.
+    while (!path_orphans.empty()) {
+      orphans.assign(1, path_orphans.back());
+      path_orphans.pop_back();
+      for (orphan_next = 0; orphan_next < orphans.size(); ++orphan_next) {
+        const std::int32_t u = orphans[orphan_next];
+        const std::int8_t t = node[u].tree;
+        std::int32_t best = -1, best_distance = kFar;
+        for (std::int32_t a = node[u].first, end = node[u + 1].first; a < end; ++a) {
+          // The arc from the candidate parent towards u (source tree) or from u to it (sink tree).
+          if ((t == 1 ? arc[a].reverse : arc[a].residual) <= 0.0) continue;
+          const std::int32_t j = arc[a].head;
+          if (node[j].tree != t || node[j].parent == kNone) continue;
+          std::int32_t d = 0, k = j;
+          while (true) {
+            Node& z = node[k];
+            if (z.stamp == time) { d += z.distance; break; }
+            ++d;
+            if (z.parent == kTerminal) { z.stamp = time, z.distance = 1; break; }
+            if (z.parent == kOrphan) { d = kFar; break; }
+            k = arc[z.parent].head;
+          }
+          if (d == kFar) continue;
+          if (d < best_distance) best = a, best_distance = d;
+          for (k = j; node[k].stamp != time; k = arc[node[k].parent].head) node[k].stamp = time, node[k].distance = d--;
         }
-        if (d >= kFar) continue;
-        if (d < best_distance) best = a, best_distance = d;
-        for (k = j; at(stamp_, k) != time; k = at(head_, at(parent_, k))) at(stamp_, k) = time, at(distance_, k) = d--;
+        if (best != -1) {
+          node[u].parent = best, node[u].stamp = time, node[u].distance = best_distance + 1;
+          continue;
+        }
+        for (std::int32_t a = node[u].first, end = node[u + 1].first; a < end; ++a) {
+          const std::int32_t j = arc[a].head;
+          const Node& y = node[j];
+          if (y.tree != t || y.parent == kNone) continue;
+          if ((t == 1 ? arc[a].reverse : arc[a].residual) > 0.0) activate(j);
+          if (y.parent >= 0 && arc[y.parent].head == u) make_orphan(j);
+        }
+        node[u].tree = 0, node[u].parent = kNone;
       }
-      if (best != -1) {
-        at(parent_, u) = best, at(stamp_, u) = time, at(distance_, u) = best_distance + 1;
-        continue;
-      }
-      for (Int a = at(first_, u); a != -1; a = at(next_, a)) {
-        const Int j = at(head_, a);
-        if (at(tree_, j) != t) continue;
-        const Int pj = at(parent_, j);
-        if (pj == kNone) continue;
-        if (open(a ^ 1, t)) activate(j);
-        if (pj >= 0 && at(head_, pj) == u) make_orphan(j);
-      }
-      at(tree_, u) = 0, at(parent_, u) = kNone;
     }
     if (++augmentations % 4096 == 0) progress.report(0.5, "max-flow");
   }

@@ -7,8 +7,13 @@
 // normals for point-to-plane (given, or PCA on that same tree), and a Morton ordering of the
 // source points so that consecutive queries walk the same tree nodes (cache-friendly).
 // Each iteration: (1) closest target point of every transformed source point, in parallel, each
-// query writing its own slot; (2) outlier rejection: pairs beyond max_distance, then all but the
-// `trim` fraction of closest pairs (one nth_element); (3) the update: point-to-point by Horn's
+// query writing its own slot. The queries are the cost of ICP, so each point keeps what its last
+// search found (its two nearest target points and where it was): a point that moved by less
+// than half the gap between the two keeps its partner with no search (exact, by the triangle
+// inequality: most points near convergence), the others search their 2 nearest with the
+// distance to their previous two as a bound that prunes the tree from the root (see
+// correspond); (2) outlier rejection: pairs beyond max_distance or failing the normal test,
+// then all but the `trim` fraction of closest pairs (one nth_element); (3) the update: point-to-point by Horn's
 // closed form on the cross-covariance of the inlier pairs, point-to-plane by the 6×6 normal
 // equations of the linearised rotation about the source centroid (x ↦ x + ω × (x − c) + τ,
 // then the exact rotation of ω by Rodrigues' formula, as in Low 2004). Sums are taken over fixed
@@ -164,6 +169,8 @@ void check_options(const IcpOptions& o) {
     throw InputError("trim = " + number_text(o.trim) + ": expected a fraction in (0, 1]");
   if (!(o.voxel_size >= 0.0) || !std::isfinite(o.voxel_size))
     throw InputError("voxel_size = " + number_text(o.voxel_size) + ": expected a positive finite length (0: none)");
+  if (!(o.normal_angle >= 0.0 && o.normal_angle <= 0.5 * M_PI + 1e-12))
+    throw InputError("normal_angle = " + number_text(o.normal_angle) + ": expected an angle in [0, π/2] radians (0: off)");
   if (o.normal_neighbours < 3)
     throw InputError("normal_neighbours = " + std::to_string(o.normal_neighbours) + ": expected at least 3");
   if (!o.initial.allFinite() || o.initial.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
@@ -171,56 +178,98 @@ void check_options(const IcpOptions& o) {
 }
 
 /// Closest pairs of the rows of S under (R, t) and the outlier rule: `index`, `squared` and
-/// `inlier` get one entry per row; returns the number of inliers.
+/// `inlier` get one entry per row; `inliers` counts the inliers.
 struct Correspondences {
-  std::vector<std::uint32_t> index;
-  std::vector<double> squared;
+  std::vector<std::uint32_t> index;   // closest target point (valid where found)
+  std::vector<double> squared;        // squared distance to it now; +inf: no pair (outlier)
   std::vector<char> inlier;
   Eigen::Index inliers = 0;
-  double nearest = std::numeric_limits<double>::infinity();  // smallest squared distance
   std::uint64_t hash = 0;  // of the inlier pairs: equal sets of pairs give equal hashes
+  // The cache of the last search of each point: where it was, the squared distance to its
+  // closest target point then, and to the second closest (or a lower bound of it); its second.
+  std::vector<double> searched_at, first_then, second_then;
+  std::vector<std::uint32_t> second;
 };
 
-/// warm_squared > 0: c.index holds the pairs of the previous iteration, and a point whose previous
-/// partner is within sqrt(warm_squared) (a few sample spacings: a ball of a few dozen points) is
-/// searched in the ball of that radius (capped at max_distance), which holds the new closest
-/// point and prunes the tree more than an unbounded search; a point with nothing within
-/// max_distance gets squared distance +inf (an outlier either way). Other points: a plain search.
+/// Normal compatibility of the pairs: source normals (rows of S's order, in the source frame)
+/// turned by the current rotation against the target normals; off when `source` is null.
+struct NormalTest {
+  const VertexMatrix* source = nullptr;
+  const VertexMatrix* target = nullptr;
+  double min_cosine = 0.0;  // |cos| of the largest angle allowed
+};
+
+constexpr std::uint32_t kNoSecond = std::numeric_limits<std::uint32_t>::max();
+
+/// warm = true: c holds the searches of the previous call on the same S. A point that has moved
+/// by δ since its last search, whose closest target point was then at r1 and the second closest
+/// at r2 >= r1 + 2δ (with a rounding margin), keeps its closest point with no search at all (by
+/// the triangle inequality every other point is now at >= r2 − δ >= r1 + δ >= its distance), so
+/// near convergence most points skip the tree. Any other point searches its 2 nearest, bounded
+/// by its distance to the farther of its previous two (they are within it; the bound prunes from
+/// the first node on), capped at max_distance. Nothing within max_distance, or a pair that fails
+/// the normal test: squared distance +inf (an outlier). The result is that of a plain search.
 void correspond(const points::KdTree& tree, const VertexMatrix& S, const Eigen::Matrix3d& R,
-                const Eigen::Vector3d& t, double max_squared, double trim, double warm_squared, Correspondences& c) {
+                const Eigen::Vector3d& t, double max_squared, double trim, bool warm, const NormalTest& normals,
+                Correspondences& c) {
   const Eigen::Index n = S.rows();
-  c.index.resize(std::size_t(n));
-  c.squared.resize(std::size_t(n));
-  c.inlier.assign(std::size_t(n), 0);
+  const auto rows = std::size_t(n);
+  c.index.resize(rows), c.squared.resize(rows), c.inlier.assign(rows, 0);
+  if (!warm) {
+    c.searched_at.assign(3 * rows, 0.0), c.second.assign(rows, kNoSecond);
+    c.first_then.assign(rows, std::numeric_limits<double>::infinity()), c.second_then.assign(rows, 0.0);
+  }
   const VertexMatrix& Q = tree.normalized_points();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 512), [&](const tbb::blocked_range<Eigen::Index>& r) {
-    std::vector<std::pair<std::uint32_t, double>> matches;
     for (Eigen::Index i = r.begin(); i < r.end(); ++i) {
+      const std::size_t k = std::size_t(i);
       const Eigen::Vector3d p = R * S.row(i).transpose() + t;
-      std::uint32_t& index = c.index[std::size_t(i)];
-      double& squared = c.squared[std::size_t(i)];
-      const double previous = warm_squared > 0.0 ? (p - Q.row(index).transpose()).squaredNorm() : 0.0;
-      if (warm_squared == 0.0 || !(previous <= warm_squared)) {
-        tree.nearest(p.data(), 1, &index, &squared);
+      std::uint32_t& index = c.index[k];
+      double& squared = c.squared[k];
+      Eigen::Map<Eigen::Vector3d> at(&c.searched_at[3 * k]);
+      // +inf for a pair whose normals differ by more than the angle allowed.
+      auto test_normals = [&] {
+        if (normals.source == nullptr || !(squared < kInf)) return;
+        const double cosine = (R * normals.source->row(i).transpose()).dot(normals.target->row(index).transpose());
+        if (!(std::abs(cosine) >= normals.min_cosine)) squared = kInf;
+      };
+      double bound = max_squared;
+      if (warm && c.first_then[k] < kInf) {
+        const double moved = (p - at).norm();
+        const double r1 = std::sqrt(c.first_then[k]), r2 = std::sqrt(c.second_then[k]);
+        if (r2 - r1 > 2.0 * moved + 1e-12 * (r2 + moved)) {  // the closest point is still the same
+          squared = (p - Q.row(index).transpose()).squaredNorm();
+          if (!(squared < max_squared)) squared = kInf;
+          test_normals();
+          continue;
+        }
+        if (c.second[k] != kNoSecond) {
+          const double farther = std::max((p - Q.row(index).transpose()).squaredNorm(),
+                                          (p - Q.row(c.second[k]).transpose()).squaredNorm());
+          bound = std::min(farther * (1.0 + 1e-12) + std::numeric_limits<double>::min(), max_squared);
+        }
+      }
+      std::uint32_t indices[2];
+      double squares[2];
+      const int hits = tree.nearest(p.data(), 2, indices, squares, bound);
+      at = p;
+      if (hits == 0) {
+        squared = kInf, c.first_then[k] = kInf;
         continue;
       }
-      const double radius = std::min(previous * (1.0 + 1e-12) + std::numeric_limits<double>::min(), max_squared);
-      tree.within_radius(p.data(), radius, matches);
-      if (matches.empty()) {
-        squared = std::numeric_limits<double>::infinity();
-      } else {
-        index = matches.front().first;
-        squared = matches.front().second;
-      }
+      index = indices[0], squared = squares[0], c.first_then[k] = squares[0];
+      c.second[k] = hits == 2 ? indices[1] : kNoSecond;
+      c.second_then[k] = hits == 2 ? squares[1] : std::min(bound, std::numeric_limits<double>::max());
+      test_normals();
     }
   });
   double cut = max_squared;
-  c.nearest = *std::min_element(c.squared.begin(), c.squared.end());
   if (trim < 1.0) {
     std::vector<double> kept;
     kept.reserve(std::size_t(n));
     for (double d : c.squared)
-      if (d <= max_squared) kept.push_back(d);
+      if (d <= max_squared && d < kInf) kept.push_back(d);
     if (!kept.empty()) {
       const auto k = std::size_t(std::max(1.0, std::ceil(trim * double(kept.size())))) - 1;
       std::nth_element(kept.begin(), kept.begin() + std::ptrdiff_t(k), kept.end());
@@ -231,7 +280,7 @@ void correspond(const points::KdTree& tree, const VertexMatrix& S, const Eigen::
   std::uint64_t hash = 14695981039346656037ull;  // FNV-1a over (pair or "no pair") per point
   for (Eigen::Index i = 0; i < n; ++i) {
     std::uint64_t pair = 0xffffffffull;
-    if (c.squared[std::size_t(i)] <= cut) {
+    if (c.squared[std::size_t(i)] <= cut && c.squared[std::size_t(i)] < kInf) {  // +inf: rejected
       c.inlier[std::size_t(i)] = 1;
       pair = c.index[std::size_t(i)];
       ++count;
@@ -256,47 +305,88 @@ VertexMatrix voxel_downsample(const VertexRef& P, double voxel_size) {
   return group_centroids(P, voxel_groups(P, voxel_size, "P"));
 }
 
-IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const VertexRef& target_normals,
-              const IcpOptions& options, const Progress& progress) {
+namespace {
+
+/// Unit rows of given normals. \throw InputError naming the row of a zero or non-finite one.
+VertexMatrix unit_normals(const VertexRef& N, Eigen::Index rows, const char* name, const char* points) {
+  if (N.rows() != rows)
+    throw InputError(std::string(name) + " has " + std::to_string(N.rows()) + " rows for " + std::to_string(rows) +
+                     " " + points + " points");
+  VertexMatrix out(N.rows(), 3);
+  for (Eigen::Index i = 0; i < N.rows(); ++i) {
+    const Eigen::RowVector3d n = N.row(i);
+    const double length = n.norm();
+    if (!n.allFinite() || !(length > 0.0) || !std::isfinite(length))
+      throw InputError(std::string(name) + "[" + std::to_string(i) + "] = (" + number_text(n(0)) + ", " +
+                       number_text(n(1)) + ", " + number_text(n(2)) + "): expected a nonzero finite normal");
+    out.row(i) = n / length;
+  }
+  return out;
+}
+
+/// PCA normals of P (its own kd-tree). \throw InputError when P is too small for k neighbours.
+VertexMatrix pca_normals(const VertexMatrix& P, int k, const char* what) {
+  if (P.rows() <= k)
+    throw InputError(std::string("icp: ") + what + " normals are estimated from normal_neighbours = " +
+                     std::to_string(k) + " neighbours, but it has " + std::to_string(P.rows()) +
+                     " points (give the normals, or lower normal_neighbours)");
+  return points::estimate_normals(points::KdTree(P), {k, 0.0}).normals;
+}
+
+/// The rows of `all` whose group in `groups` they belong to: out[row] = per_group[group of row].
+VertexMatrix spread_to_rows(const VertexMatrix& per_group, const VoxelGroups& groups, Eigen::Index rows) {
+  VertexMatrix out(rows, 3);
+  for (std::size_t g = 0; g + 1 < groups.offsets.size(); ++g)
+    for (auto k = groups.offsets[g]; k < groups.offsets[g + 1]; ++k) out.row(groups.order[std::size_t(k)]) = per_group.row(Eigen::Index(g));
+  return out;
+}
+
+}  // namespace
+
+IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const VertexRef& source_normals,
+              const VertexRef& target_normals, const IcpOptions& options, const Progress& progress) {
   validate_vertices(source_in, "source");
   validate_vertices(target_in, "target");
   check_options(options);
   const bool plane = options.method == IcpMethod::point_to_plane;
-  const bool normals_given = plane && target_normals.rows() > 0;
-  VertexMatrix given_normals;
-  if (normals_given) {
-    if (target_normals.rows() != target_in.rows())
-      throw InputError("target_normals has " + std::to_string(target_normals.rows()) + " rows for " +
-                       std::to_string(target_in.rows()) + " target points");
-    given_normals.resize(target_normals.rows(), 3);
-    for (Eigen::Index i = 0; i < target_normals.rows(); ++i) {
-      const Eigen::RowVector3d n = target_normals.row(i);
-      const double length = n.norm();
-      if (!n.allFinite() || !(length > 0.0) || !std::isfinite(length))
-        throw InputError("target_normals[" + std::to_string(i) + "] = (" + number_text(n(0)) + ", " +
-                         number_text(n(1)) + ", " + number_text(n(2)) + "): expected a nonzero finite normal");
-      given_normals.row(i) = n / length;
-    }
-  }
+  const bool filter = options.normal_angle > 0.0;
+  const bool target_normals_given = (plane || filter) && target_normals.rows() > 0;
+  const bool source_normals_given = filter && source_normals.rows() > 0;
+  VertexMatrix given_target_normals, given_source_normals;
+  if (target_normals_given) given_target_normals = unit_normals(target_normals, target_in.rows(), "target_normals", "target");
+  if (source_normals_given) given_source_normals = unit_normals(source_normals, source_in.rows(), "source_normals", "source");
 
-  // The source under the start transform (input units).
+  // The source under the start transform (input units); given source normals turned with it
+  // (by the inverse transpose of its linear part, which is the rotation for a rigid start).
   const Eigen::Matrix3d A0 = options.initial.topLeftCorner<3, 3>();
   const Eigen::Vector3d b0 = options.initial.topRightCorner<3, 1>();
   VertexMatrix source_start = (source_in * A0.transpose()).rowwise() + b0.transpose();
   if (!source_start.allFinite()) throw InputError("initial maps a source point outside the double range");
+  if (source_normals_given) {
+    const Eigen::Matrix3d normal_map = A0.inverse().transpose();
+    if (!normal_map.allFinite()) throw InputError("initial: its 3×3 part is singular");
+    given_source_normals = given_source_normals * normal_map.transpose();
+    given_source_normals.rowwise().normalize();
+  }
 
-  // Voxel reduction, once.
-  VertexMatrix target_points, target_unit_normals;
-  VertexMatrix source_points;
+  // Voxel reduction, once; normals for the reduced sets (given ones averaged per voxel).
+  VertexMatrix target_points, target_unit_normals, source_points, source_unit_normals, source_all_normals;
+  VoxelGroups source_groups;
   if (options.voxel_size > 0.0) {
     const VoxelGroups tg = voxel_groups(target_in, options.voxel_size, "target");
     target_points = group_centroids(target_in, tg);
-    if (normals_given) target_unit_normals = group_normals(given_normals, tg);
-    source_points = group_centroids(source_start, voxel_groups(source_start, options.voxel_size, "source"));
+    if (target_normals_given) target_unit_normals = group_normals(given_target_normals, tg);
+    source_groups = voxel_groups(source_start, options.voxel_size, "source");
+    source_points = group_centroids(source_start, source_groups);
+    if (source_normals_given) {
+      source_unit_normals = group_normals(given_source_normals, source_groups);
+      source_all_normals = std::move(given_source_normals);
+    }
   } else {
     target_points = target_in;
-    if (normals_given) target_unit_normals = std::move(given_normals);
+    if (target_normals_given) target_unit_normals = std::move(given_target_normals);
     source_points = source_start;
+    if (source_normals_given) source_unit_normals = std::move(given_source_normals);
   }
   const Eigen::Index needed = plane ? 6 : 3;
   if (source_points.rows() < 3 || target_points.rows() < needed)
@@ -309,12 +399,16 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   progress.report(0.0, "icp: kd-tree");
   const points::KdTree tree(target_points);
   const CoordinateFrame& frame = tree.frame();
-  if (plane && !normals_given) {
+  if ((plane || filter) && !target_normals_given) {
     if (target_points.rows() <= options.normal_neighbours)
-      throw InputError("icp: point_to_plane needs target normals: " + std::to_string(target_points.rows()) +
-                       " target points are too few for normal_neighbours = " +
+      throw InputError("icp: " + std::string(plane ? "point_to_plane" : "normal_angle") + " needs target normals: " +
+                       std::to_string(target_points.rows()) + " target points are too few for normal_neighbours = " +
                        std::to_string(options.normal_neighbours));
     target_unit_normals = points::estimate_normals(tree, {options.normal_neighbours, 0.0}).normals;
+  }
+  if (filter && !source_normals_given) {
+    source_unit_normals = pca_normals(source_points, options.normal_neighbours, "the source's");
+    if (options.voxel_size > 0.0) source_all_normals = spread_to_rows(source_unit_normals, source_groups, source_start.rows());
   }
   const VertexMatrix& Q = tree.normalized_points();
   const Eigen::Vector3d target_extent = (Q.colwise().maxCoeff() - Q.colwise().minCoeff()).transpose();
@@ -323,28 +417,18 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   // Source in the target's frame, in Morton order (queries of nearby points follow each other).
   const VertexMatrix source_frame = frame.normalize_vertices(source_points);
   const LargeVector<int> order = morton_order(source_frame);
-  VertexMatrix S(source_frame.rows(), 3);
+  VertexMatrix S(source_frame.rows(), 3), SN;
   for (Eigen::Index k = 0; k < S.rows(); ++k) S.row(k) = source_frame.row(order[std::size_t(k)]);
+  if (filter) {
+    SN.resize(S.rows(), 3);
+    for (Eigen::Index k = 0; k < S.rows(); ++k) SN.row(k) = source_unit_normals.row(order[std::size_t(k)]);
+  }
+  const NormalTest normal_test{filter ? &SN : nullptr, &target_unit_normals, std::cos(options.normal_angle)};
   const Eigen::Vector3d source_centroid = S.colwise().mean().transpose();
 
   const double max_squared = options.max_distance > 0.0
                                  ? std::pow(frame.to_normalized(options.max_distance, 1), 2)
                                  : std::numeric_limits<double>::infinity();
-  // The target's sample spacing (median distance to the nearest other point over up to 1024
-  // points spread over it) sets the ball of the warm-started searches: 3 spacings.
-  double warm_squared = 0.0;
-  if (Q.rows() > 1) {
-    const Eigen::Index stride = std::max<Eigen::Index>(1, Q.rows() / 1024);
-    std::vector<double> spacing;
-    std::uint32_t found[2];
-    double squared[2];
-    for (Eigen::Index i = 0; i < Q.rows(); i += stride) {
-      const int k = tree.nearest(Q.row(i).data(), 2, found, squared);
-      if (k == 2) spacing.push_back(squared[1]);
-    }
-    std::nth_element(spacing.begin(), spacing.begin() + std::ptrdiff_t(spacing.size() / 2), spacing.end());
-    warm_squared = 9.0 * spacing[spacing.size() / 2];
-  }
   IcpResult result;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
@@ -352,13 +436,21 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   std::vector<std::uint64_t> seen;  // hashes of the pair sets of the iterations so far
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     progress.report(double(iteration) / double(options.max_iterations), "icp");
-    correspond(tree, S, R, t, max_squared, options.trim, iteration > 0 ? warm_squared : 0.0, c);
+    correspond(tree, S, R, t, max_squared, options.trim, iteration > 0, normal_test, c);
     if (c.inliers < needed) {
-      if (iteration == 0)
-        throw InputError("max_distance = " + number_text(options.max_distance) + ": " +
+      if (iteration == 0) {
+        double nearest = std::numeric_limits<double>::infinity();  // the closest pair, for the message
+        for (Eigen::Index i = 0; i < S.rows(); ++i) {
+          std::uint32_t j;
+          double squared;
+          if (tree.nearest_within(S.row(i).data(), nearest, j, squared)) nearest = squared;
+        }
+        throw InputError("max_distance = " + number_text(options.max_distance) +
+                         (filter ? ", normal_angle = " + number_text(options.normal_angle) : std::string()) + ": " +
                          std::to_string(c.inliers) + " source point(s) are within it of the target at the "
-                         "start (the nearest pair is " + number_text(frame.to_input(std::sqrt(c.nearest), 1, "distance")) +
+                         "start (the nearest pair is " + number_text(frame.to_input(std::sqrt(nearest), 1, "distance")) +
                          " apart); at least " + std::to_string(needed) + " are needed");
+      }
       break;  // lost the pairs: reported as not converged
     }
     // The same pairs as 2 to 4 iterations ago: the iteration cycles between sets of pairs that
@@ -391,7 +483,7 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
       dR = detail::horn_rotation(H);
       dt = (mq + centre) - dR * (mp + centre);
     } else {
-      const PlaneSystem s = block_sum<PlaneSystem>(S.rows(), [&](Eigen::Index i, PlaneSystem& sum) {
+      const PlaneSystem system = block_sum<PlaneSystem>(S.rows(), [&](Eigen::Index i, PlaneSystem& sum) {
         if (!c.inlier[std::size_t(i)]) return;
         const Eigen::Vector3d x = R * S.row(i).transpose() + t;
         const std::uint32_t j = c.index[std::size_t(i)];
@@ -403,10 +495,10 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
         sum.JtJ.selfadjointView<Eigen::Lower>().rankUpdate(J);
         sum.Jtr.noalias() += r * J;
       });
-      Eigen::Matrix<double, 6, 6> JtJ = s.JtJ.selfadjointView<Eigen::Lower>();
+      Eigen::Matrix<double, 6, 6> JtJ = system.JtJ.selfadjointView<Eigen::Lower>();
       // A tiny damping keeps the solve defined where the target lets the source slide (a plane).
       JtJ.diagonal().array() += 1e-12 * JtJ.trace() + std::numeric_limits<double>::min();
-      const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-s.Jtr);
+      const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-system.Jtr);
       if (!x.allFinite()) break;
       dR = detail::rotation_from_vector(x.head<3>());
       dt = centre + x.tail<3>() - dR * centre;
@@ -434,22 +526,159 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   if (!result.transform.allFinite()) throw InputError("icp: the transform leaves the double range");
 
   // Final correspondences of every input source row at the final transform.
-  const VertexMatrix all = options.voxel_size > 0.0 ? frame.normalize_vertices(source_start) : S;
-  correspond(tree, all, R, t, max_squared, options.trim, options.voxel_size == 0.0 ? warm_squared : 0.0, c);
+  const bool reduced = options.voxel_size > 0.0;
+  const VertexMatrix all = reduced ? frame.normalize_vertices(source_start) : S;
+  const NormalTest final_test{filter ? (reduced ? &source_all_normals : &SN) : nullptr, &target_unit_normals,
+                              normal_test.min_cosine};
+  correspond(tree, all, R, t, max_squared, options.trim, !reduced, final_test, c);
   result.rms = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
   result.inlier_fraction = double(c.inliers) / double(all.rows());
   if (c.inliers < needed) result.converged = false;
   result.inliers.assign(std::size_t(all.rows()), 0);
   for (Eigen::Index k = 0; k < all.rows(); ++k) {
-    const std::size_t row = options.voxel_size > 0.0 ? std::size_t(k) : std::size_t(order[std::size_t(k)]);
+    const std::size_t row = reduced ? std::size_t(k) : std::size_t(order[std::size_t(k)]);
     result.inliers[row] = c.inlier[std::size_t(k)];
   }
   return result;
 }
 
+IcpResult icp(const VertexRef& source, const VertexRef& target, const VertexRef& target_normals,
+              const IcpOptions& options, const Progress& progress) {
+  return icp(source, target, VertexMatrix(0, 3), target_normals, options, progress);
+}
+
 IcpResult icp(const VertexRef& source, const VertexRef& target, const IcpOptions& options,
               const Progress& progress) {
-  return icp(source, target, VertexMatrix(0, 3), options, progress);
+  return icp(source, target, VertexMatrix(0, 3), VertexMatrix(0, 3), options, progress);
+}
+
+IcpMultiResult icp_multi(const std::vector<VertexMatrix>& scans, const IcpMultiOptions& options,
+                         const Progress& progress) {
+  const std::size_t k = scans.size();
+  if (k < 2) throw InputError("icp_multi: " + std::to_string(k) + " scan(s) given: expected at least 2");
+  if (!options.initial.empty() && options.initial.size() != k)
+    throw InputError("icp_multi: initial has " + std::to_string(options.initial.size()) + " transforms for " +
+                     std::to_string(k) + " scans (expected one per scan, or none)");
+  if (options.rounds < 0) throw InputError("rounds = " + std::to_string(options.rounds) + ": expected at least 0");
+  if (!(options.round_tolerance > 0.0) || !std::isfinite(options.round_tolerance))
+    throw InputError("round_tolerance = " + number_text(options.round_tolerance) + ": expected a positive finite number");
+  check_options(options.icp);
+  for (std::size_t i = 0; i < options.initial.size(); ++i)
+    if (!options.initial[i].allFinite() || options.initial[i].row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+      throw InputError("initial[" + std::to_string(i) + "]: expected a finite 4×4 affine transform with last row (0, 0, 0, 1)");
+  const bool plane = options.icp.method == IcpMethod::point_to_plane;
+  const bool normals = plane || options.icp.normal_angle > 0.0;
+
+  // Once per scan: the voxel reduction and the PCA normals (in the scan's own frame).
+  std::vector<VertexMatrix> points(k), unit_normals(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const std::string name = "scans[" + std::to_string(i) + "]";
+    validate_vertices(scans[i], name.c_str());
+    points[i] = options.icp.voxel_size > 0.0 ? group_centroids(scans[i], voxel_groups(scans[i], options.icp.voxel_size, name.c_str()))
+                                             : scans[i];
+    if (points[i].rows() < 3)
+      throw InputError("icp_multi: " + name + " has " + std::to_string(points[i].rows()) + " point(s)" +
+                       (options.icp.voxel_size > 0.0 ? " after the voxel reduction" : "") + ": at least 3 are needed");
+    if (normals) unit_normals[i] = pca_normals(points[i], options.icp.normal_neighbours, name.c_str());
+  }
+  IcpMultiResult result;
+  result.transforms.assign(k, Transform::Identity());
+  if (!options.initial.empty()) result.transforms = options.initial;
+  result.rms.assign(k, 0.0), result.inlier_fraction.assign(k, 1.0), result.scan_converged.assign(k, 1);
+
+  // The union of the scans `others` at their current poses, with their normals turned along.
+  auto union_of = [&](const std::vector<std::size_t>& others, VertexMatrix& target, VertexMatrix& target_normals) {
+    Eigen::Index rows = 0;
+    for (std::size_t j : others) rows += points[j].rows();
+    target.resize(rows, 3), target_normals.resize(normals ? rows : 0, 3);
+    Eigen::Index at = 0;
+    for (std::size_t j : others) {
+      const Eigen::Matrix3d A = result.transforms[j].topLeftCorner<3, 3>();
+      const Eigen::Vector3d b = result.transforms[j].topRightCorner<3, 1>();
+      target.middleRows(at, points[j].rows()) = (points[j] * A.transpose()).rowwise() + b.transpose();
+      if (normals) {
+        VertexMatrix turned = unit_normals[j] * A.inverse();  // rows n ↦ A^-T n
+        turned.rowwise().normalize();
+        target_normals.middleRows(at, points[j].rows()) = turned;
+      }
+      at += points[j].rows();
+    }
+  };
+  // Scan i onto the union of `others`, from its current pose; returns how far its pose moved.
+  IcpOptions pairwise = options.icp;
+  pairwise.voxel_size = 0.0;  // reduced above, once
+  const int steps = int(k - 1) * (1 + options.rounds);
+  int step = 0;
+  auto register_onto = [&](std::size_t i, const std::vector<std::size_t>& others) {
+    VertexMatrix target, target_normals;
+    union_of(others, target, target_normals);
+    pairwise.initial = result.transforms[i];
+    const Progress part = progress.subrange(double(step) / steps, double(std::min(step + 1, steps)) / steps);
+    ++step;
+    IcpResult r;
+    try {
+      r = icp(points[i], target, normals ? unit_normals[i] : VertexMatrix(0, 3), target_normals, pairwise, part);
+    } catch (const InputError& error) {
+      throw InputError("icp_multi: scan " + std::to_string(i) + ": " + error.what());
+    }
+    const double angle = rotation_angle(r.transform * result.transforms[i].inverse());
+    const double moved = (r.transform.topRightCorner<3, 1>() - result.transforms[i].topRightCorner<3, 1>()).norm();
+    result.transforms[i] = r.transform;
+    result.rms[i] = r.rms, result.inlier_fraction[i] = r.inlier_fraction, result.scan_converged[i] = r.converged;
+    return std::pair<double, double>(angle, moved);
+  };
+  // The diagonal of all scans in their own frames: the unit of the rounds' translation test.
+  double diagonal = 0.0;
+  for (const VertexMatrix& P : points) diagonal = std::max(diagonal, (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm());
+
+  std::vector<std::size_t> others;
+  for (std::size_t i = 1; i < k; ++i) {  // sequential pass: onto the growing model
+    others.push_back(i - 1);
+    register_onto(i, others);
+  }
+  bool still = false;
+  for (int round = 0; round < options.rounds && !still; ++round) {
+    still = true;
+    for (std::size_t i = 1; i < k; ++i) {
+      others.clear();
+      for (std::size_t j = 0; j < k; ++j)
+        if (j != i) others.push_back(j);
+      const auto [angle, moved] = register_onto(i, others);
+      still = still && angle < options.round_tolerance && moved < options.round_tolerance * diagonal;
+    }
+    ++result.rounds;
+  }
+  // The first scan's pairs with the others at the final poses (its pose stays): its RMS.
+  {
+    others.clear();
+    for (std::size_t j = 1; j < k; ++j) others.push_back(j);
+    VertexMatrix target, target_normals;
+    union_of(others, target, target_normals);
+    const points::KdTree tree(target);
+    const CoordinateFrame& frame = tree.frame();
+    const Eigen::Matrix3d A = result.transforms[0].topLeftCorner<3, 3>();
+    const Eigen::Vector3d b = result.transforms[0].topRightCorner<3, 1>();
+    const VertexMatrix S = frame.normalize_vertices(VertexMatrix((points[0] * A.transpose()).rowwise() + b.transpose()));
+    VertexMatrix SN;
+    if (options.icp.normal_angle > 0.0) {
+      SN = unit_normals[0] * A.inverse();
+      SN.rowwise().normalize();
+    }
+    const NormalTest test{options.icp.normal_angle > 0.0 ? &SN : nullptr, &target_normals,
+                          std::cos(options.icp.normal_angle)};
+    const double max_squared = options.icp.max_distance > 0.0
+                                   ? std::pow(frame.to_normalized(options.icp.max_distance, 1), 2)
+                                   : std::numeric_limits<double>::infinity();
+    Correspondences c;
+    correspond(tree, S, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), max_squared, options.icp.trim, false, test, c);
+    result.rms[0] = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
+    result.inlier_fraction[0] = double(c.inliers) / double(S.rows());
+  }
+  bool all = options.rounds == 0 || still;
+  for (std::size_t i = 1; i < k; ++i) all = all && result.scan_converged[i];
+  result.converged = all;
+  progress.report(1.0, "icp_multi");
+  return result;
 }
 
 }  // namespace meshsmith::registration

@@ -8,6 +8,7 @@
 #include <meshsmith/core/types.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -85,7 +86,19 @@ class KdTree {
   /// normalize_point), squared distances and radii are in normalized units.
   /// nearest: the min(k, size()) nearest points to `query` (3 doubles) into `indices` and
   /// `squared_distances` (room for k each), nearest first; returns how many were written.
-  int nearest(const double* query, int k, std::uint32_t* indices, double* squared_distances) const;
+  /// squared_bound: only points at squared distance < squared_bound count (fewer than k may then
+  /// be written; every other point is at least that far); a caller that knows k points within
+  /// some distance passes it, and the search prunes from the first node on.
+  int nearest(const double* query, int k, std::uint32_t* indices, double* squared_distances,
+              double squared_bound = std::numeric_limits<double>::infinity()) const;
+  /// nearest_within: the single nearest point to `query` among those at squared distance <
+  /// squared_bound (+inf: no bound), into `index` and `squared_distance`; returns false (and
+  /// leaves them unchanged) when no point is that close. A specialised 1-NN search (no result
+  /// buffer, no sort) whose bound prunes the tree from the start, like a ball search that stops
+  /// at the first ring: callers that know a nearby point (ICP's previous partner) pass its
+  /// distance. Among points at the same distance the result is the same as nearest(query, 1).
+  bool nearest_within(const double* query, double squared_bound, std::uint32_t& index,
+                      double& squared_distance) const;
   /// within_radius: the points at squared distance < squared_radius, nearest first (`matches`
   /// is cleared first; pairs of index and squared distance).
   void within_radius(const double* query, double squared_radius,

@@ -17,32 +17,53 @@ namespace meshsmith::reconstruction {
 /// An s–t graph with real capacities and Boykov–Kolmogorov max-flow (two search trees grown
 /// from the terminals, augmentation along the path where they meet, orphans re-adopted; the
 /// trees are reused between augmentations). Nodes 0..n-1; arcs are added in pairs.
-/// Memory: 32 bytes per node, 40 per edge pair. Worst case O(n² m |cut|), in practice close to
-/// linear on grid graphs (the paper's experiments; ours: see benchmarks/bench_reconstruction.py).
+/// Memory: 32 bytes per node; 24 bytes per edge until solve(), 48 from then on (the arcs in
+/// compressed rows). At most 2^31 - 2 nodes and 2^30 - 1 edges.
+/// Worst case O(n² m |cut|), in practice close to linear on grid graphs (the paper's
+/// experiments; ours: see benchmarks/bench_reconstruction.py).
 class MaxFlow {
  public:
+  /// \throw InputError if nodes < 0 or nodes >= 2^31 - 1.
   explicit MaxFlow(std::int64_t nodes, std::int64_t edges_hint = 0);
   /// An edge u–v with capacity `forward` from u to v and `backward` from v to u (both >= 0).
-  /// \throw InputError for a node out of range, u == v, or a negative or non-finite capacity.
+  /// \throw InputError for a node out of range, u == v, a negative or non-finite capacity, or
+  ///        the 2^30-th edge.
   void add_edge(std::int64_t u, std::int64_t v, double forward, double backward);
   /// Adds capacity from the source to u and from u to the sink (>= 0; accumulates).
   /// \throw InputError as add_edge.
   void add_terminal(std::int64_t u, double source, double sink);
-  /// Runs the max-flow (once; later calls return the same value) and returns its value.
+  /// Runs the max-flow and returns its value. Later calls return the same value; edges or
+  /// terminal capacities added after a solve() are added to the residual graph, and the next
+  /// solve() returns the maximum flow of the whole graph.
   /// \throw Cancelled.
   double solve(const Progress& progress = {});
   /// After solve(): whether u is on the source side of the minimum cut (the nodes reachable from
   /// the source in the residual graph; the others are on the sink side).
   bool source_side(std::int64_t u) const;
-  std::int64_t node_count() const { return static_cast<std::int64_t>(first_.size()); }
+  std::int64_t node_count() const { return static_cast<std::int64_t>(nodes_.size()) - 1; }
 
  private:
-  bool adopt_source_path(std::int64_t node);
-  std::vector<std::int64_t> first_, parent_, next_active_, stamp_, distance_;
-  std::vector<std::int8_t> tree_;   ///< 0 free, 1 source tree, 2 sink tree
-  std::vector<double> terminal_;    ///< > 0: residual source → node; < 0: residual node → sink
-  std::vector<std::int64_t> head_, next_;  ///< per arc; arc a's reverse is a ^ 1
-  std::vector<double> residual_;
+  struct Node {
+    std::int32_t first = 0;           ///< arcs [first, next node's first) once in compressed rows
+    std::int32_t parent = 0;          ///< arc to the parent, or kTerminal / kOrphan / kNone
+    std::int32_t next_active = -1;    ///< FIFO of active nodes (-1: not queued; itself: last)
+    std::int32_t stamp = 0;           ///< time its distance was last known valid
+    std::int32_t distance = 0;        ///< arcs to the terminal along the parents (when stamped)
+    std::int8_t tree = 0;             ///< 0 free, 1 source tree, 2 sink tree
+    double terminal = 0.0;            ///< > 0: residual source → node; < 0: residual node → sink
+  };
+  struct Arc {
+    std::int32_t head;    ///< node the arc points to
+    std::int32_t sister;  ///< the reverse arc
+    double residual;      ///< residual capacity
+    double reverse;       ///< the sister's residual capacity (kept equal to it)
+  };
+  void to_rows();    ///< edge list → compressed rows (arcs_)
+  void to_edges();   ///< compressed rows → edge list of residual capacities (before new edges)
+  std::vector<Node> nodes_;                      ///< one more than node_count(): the rows' end
+  std::vector<std::int32_t> edge_tail_, edge_head_;
+  std::vector<double> edge_forward_, edge_backward_;
+  std::vector<Arc> arcs_;
   double flow_ = 0.0;
   bool solved_ = false;
 };
