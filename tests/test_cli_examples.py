@@ -239,25 +239,22 @@ def _default_sigint():
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
-    V, F = datasets.icosphere(6)              # 81,920 faces: plain ABF runs for many seconds
-    path = tmp_path / "sphere.off"
-    io.write_mesh(path, V, F)
-    # stderr on a pseudo-terminal, so the bar draws: Ctrl-C is sent once the bar shows ABF's chart
-    # (past start-up and reading, however slow a loaded machine is), then 1 s later: inside the Newton steps.
+def interrupt_on_terminal(command, marker: bytes, delay: float = 0.0):
+    """Run `meshsmith COMMAND...` with stderr on a pseudo-terminal (so its bar draws), send SIGINT
+    `delay` seconds after `marker` first shows there (however slow a loaded machine's start-up is),
+    and return (exit status, the terminal's lines, seconds from SIGINT to exit)."""
     leader, follower = pty.openpty()
-    child = subprocess.Popen([sys.executable, "-m", "meshsmith", "parametrize", str(path), "--method", "abf",
-                              "-o", str(tmp_path / "uv.obj")], stdout=subprocess.PIPE, stderr=follower,
-                             preexec_fn=_default_sigint)
+    child = subprocess.Popen([sys.executable, "-m", "meshsmith", *map(str, command)], stdout=subprocess.PIPE,
+                             stderr=follower, preexec_fn=_default_sigint)
     os.close(follower)
     shown = b""
     try:
         deadline = time.monotonic() + 60
-        while b"abf: chart" not in shown and time.monotonic() < deadline and child.poll() is None:
+        while marker not in shown and time.monotonic() < deadline and child.poll() is None:
             if select.select([leader], [], [], 0.1)[0]:
                 shown += os.read(leader, 4096)
-        assert b"abf: chart" in shown, shown
-        time.sleep(1.0)
+        assert marker in shown, shown
+        time.sleep(delay)
         assert child.poll() is None, shown
         child.send_signal(signal.SIGINT)
         sent = time.perf_counter()
@@ -271,8 +268,17 @@ def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
     finally:
         child.kill()
         os.close(leader)
-    lines = shown.decode().replace("\r\n", "\n").split("\n")
-    assert child.returncode == 130 and lines[-2:] == ["meshsmith: interrupted", ""], shown
+    return child.returncode, shown.decode().replace("\r\n", "\n").split("\n"), elapsed
+
+
+def test_ctrl_c_stops_a_long_abf_within_a_second(tmp_path):
+    V, F = datasets.icosphere(6)              # 81,920 faces: plain ABF runs for many seconds
+    path = tmp_path / "sphere.off"
+    io.write_mesh(path, V, F)
+    # 1 s after the bar shows ABF's chart: inside the cut or the Newton steps
+    status, lines, elapsed = interrupt_on_terminal(["parametrize", path, "--method", "abf", "-o", tmp_path / "uv.obj"],
+                                                   b"abf: chart", delay=1.0)
+    assert status == 130 and lines[-2:] == ["meshsmith: interrupted", ""], lines
     assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s"
 
 

@@ -1,17 +1,12 @@
 """Progress of the commands whose library steps report none (render, curvature, info, convert):
 stage progress read -> compute -> write on stderr, drawn only on a terminal; Ctrl-C is one line, 130."""
 import io as stdio
-import os
-import pty
-import select
-import signal
 import subprocess
 import sys
-import time
 
 import pytest
 from test_cli import sphere_file  # noqa: F401  (the fixture)
-from test_cli_examples import _default_sigint
+from test_cli_examples import interrupt_on_terminal
 
 from meshsmith import cli, datasets, io
 from meshsmith.cli.common import ProgressBar, Stages
@@ -88,32 +83,10 @@ def test_on_a_terminal_the_bar_shows_the_stages_and_ctrl_c_ends_it_with_one_line
     V, F = datasets.icosphere(7)              # 327,680 faces: the quadric fit takes seconds
     path = tmp_path / "big.ply"
     io.write_mesh(path, V, F)
-    leader, follower = pty.openpty()
-    child = subprocess.Popen([sys.executable, "-m", "meshsmith", "curvature", str(path), "--kind", "k1",
-                              "-o", str(tmp_path / "k1.png")], stdout=subprocess.PIPE, stderr=follower,
-                             preexec_fn=_default_sigint)
-    os.close(follower)
-    shown = b""
-    try:
-        deadline = time.monotonic() + 60
-        while b"k1 curvature" not in shown and time.monotonic() < deadline and child.poll() is None:
-            if select.select([leader], [], [], 0.1)[0]:
-                shown += os.read(leader, 4096)
-        assert b"reading" in shown and b"k1 curvature" in shown, shown
-        child.send_signal(signal.SIGINT)
-        sent = time.perf_counter()
-        child.wait(timeout=10)
-        elapsed = time.perf_counter() - sent
-        while select.select([leader], [], [], 0.2)[0]:
-            try:
-                shown += os.read(leader, 4096)
-            except OSError:                    # the terminal closed with the child
-                break
-    finally:
-        child.kill()
-        os.close(leader)
-    lines = shown.decode().replace("\r\n", "\n").split("\n")
-    assert child.returncode == 130 and lines[-2:] == ["meshsmith: interrupted", ""], shown
+    status, lines, elapsed = interrupt_on_terminal(["curvature", path, "--kind", "k1", "-o", tmp_path / "k1.png"],
+                                                   b"k1 curvature")
+    assert any("reading" in line for line in lines), lines
+    assert status == 130 and lines[-2:] == ["meshsmith: interrupted", ""], lines
     assert "[" in lines[-3] and "%" in lines[-3]          # the bar's line, ended before the message
     assert elapsed < 1.5, f"Ctrl-C took {elapsed:.2f} s"
     assert not (tmp_path / "k1.png").exists()
