@@ -8,7 +8,6 @@
 #include "input_checks.h"
 
 #include <algorithm>
-#include <deque>
 #include <functional>
 #include <limits>
 #include <numeric>
