@@ -116,6 +116,7 @@ VALID_BY_NAME = {
 #: "owner": (factory target, args) building the object whose method is called.
 VALID = {
     "core.mesh_defects": {},
+    "core.set_num_threads": {"count": 2},
     "io.read_mesh": lambda f: {"path": f["obj"]},
     "io.write_mesh": lambda f: {"path": f["out"] + ".obj", "UV": SPHERE_V[:, :2].copy(), "F_uv": SPHERE_F,
                                 "normals": SPHERE_V, "F_normal": SPHERE_F},
@@ -288,7 +289,8 @@ ANY_SHAPE = {"repair.ReferencedMesh.to_input_rows", "repair.ReferencedMesh.to_in
 POLYGON_FACES = {("render.render", "F"), ("render.render_uv_layout", "F"), ("topology.info", "F"),
                  ("io.Polygons.from_array", "F"), ("io.write_mesh", "F")}
 #: Array parameters without a default for which None is documented as valid.
-NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments")}
+NONE_ACCEPTED = {("tessellation.constrained_delaunay", "segments"), ("tessellation.refine", "segments"),
+                 ("core.set_num_threads", "count")}
 #: Where a message names an integer option under another name than the Python parameter's.
 OPTION_NAMES = {("geometry.uniform_laplacian", "second"): "n"}
 

@@ -9,12 +9,24 @@
 
 #include <pybind11/stl.h>
 
+#include <oneapi/tbb/global_control.h>
+
 #include <algorithm>
+#include <memory>
 #include <thread>
 #include <utility>
 #include <vector>
 
 namespace meshsmith::python {
+
+namespace {
+
+/// The process-wide cap on TBB's worker threads (DESIGN.md, "Threads"): MESHSMITH_NUM_THREADS or
+/// meshsmith.core.set_num_threads. A per-call `threads=` adds its own global_control; TBB obeys the
+/// smallest active one, so a call can only lower the cap. Never destroyed (TBB may be gone at exit).
+tbb::global_control* process_thread_cap = nullptr;
+
+}  // namespace
 
 void bind_core(py::module_& m) {
   m.def("validate_mesh", [](const py::object& V, const py::object& F) {
@@ -105,6 +117,17 @@ void bind_core(py::module_& m) {
     const Eigen::Map<const PointMatrix> points(X.data(), X.shape(0), X.shape(1));
     return normalizing_frame(points).exponent;
   });
+  m.def("set_thread_limit", [](const py::object& count) {
+    const int limit = count.is_none() ? 0 : integer_argument<int>(count, "count", 1, 65536);
+    delete process_thread_cap;
+    process_thread_cap = nullptr;
+    if (limit > 0)
+      process_thread_cap = new tbb::global_control(tbb::global_control::max_allowed_parallelism,
+                                                   static_cast<std::size_t>(limit));
+  }, py::arg("count"), "Cap TBB's threads at count (None: no cap). InputError unless 1 <= count <= 65536.");
+  m.def("thread_limit", [] {
+    return tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  }, "The number of threads meshsmith's parallel loops may use now.");
   m.def("version", &version);
   m.def("dependency_versions", &dependency_versions);
 }

@@ -5,6 +5,8 @@ functions expose them directly.
 """
 from __future__ import annotations
 
+import os
+import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -24,6 +26,7 @@ from ._typing import (
 )
 
 __all__ = ["validate_mesh", "Mesh", "PointCloud", "MeshDefects", "mesh_defects", "version", "dependency_versions",
+           "set_num_threads", "num_threads",
            "ArrayLike", "FloatArray", "IndexArray", "BoolArray", "PathLike", "ProgressCallback"]
 
 
@@ -97,3 +100,38 @@ def version() -> str:
 def dependency_versions() -> dict[str, str]:
     """Versions of the C++ libraries the core is linked with (Eigen, OpenMesh, CGAL, ...)."""
     return dict(_core.dependency_versions())
+
+
+THREADS_VARIABLE = "MESHSMITH_NUM_THREADS"
+
+
+def set_num_threads(count: int | None) -> None:
+    """Cap the threads of every later meshsmith call at ``count`` (None: no cap, all cores).
+
+    For process pools and shared machines (DESIGN.md, "Threads"); results never depend on it. The
+    environment variable ``MESHSMITH_NUM_THREADS`` sets the same cap when meshsmith is imported. A
+    function's own ``threads=`` option can lower the cap for that call, never raise it.
+    Raises InputError unless count is None or an integer in [1, 65536].
+    """
+    _core.set_thread_limit(count)
+
+
+def num_threads() -> int:
+    """The number of threads meshsmith's parallel work may use now (the cap, or the core count)."""
+    return int(_core.thread_limit())
+
+
+def _thread_cap_from_environment() -> None:
+    """Apply ``MESHSMITH_NUM_THREADS`` if it is set; a value that is not a positive integer is ignored
+    with a RuntimeWarning (an import must not fail on it)."""
+    value = os.environ.get(THREADS_VARIABLE, "").strip()
+    if not value:
+        return
+    try:
+        set_num_threads(int(value))
+    except ValueError:
+        warnings.warn(f"{THREADS_VARIABLE}={value!r} is not a positive integer; meshsmith ignores it and uses "
+                      "every core", RuntimeWarning, stacklevel=3)
+
+
+_thread_cap_from_environment()
