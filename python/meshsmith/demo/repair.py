@@ -60,8 +60,8 @@ def broken_scan(V: np.ndarray, F: np.ndarray, seed: int = 11) -> tuple[np.ndarra
 def stage_repair(context: DemoContext) -> Section:
     """§2.4: a broken copy of the input (:func:`broken_scan`: holes, a vertex poked through,
     flipped and duplicated faces) through the whole repair: :func:`meshsmith.repair.clean`,
-    :func:`~meshsmith.repair.remove_self_intersections`, :func:`~meshsmith.repair.fill_holes`,
-    :func:`~meshsmith.repair.orient_faces` (a component the fills closed faces outward); the
+    :func:`~meshsmith.repair.remove_self_intersections`, :func:`~meshsmith.repair.fill_holes`
+    (which turns a component its fills close outward, counted as reoriented_components); the
     defects :func:`~meshsmith.repair.find_defects` counts before and after, pictures of
     both. The later stages keep the unbroken input. An input of more than
     :data:`REPAIR_STAGE_FACES` faces, or with a non-orientable component, gives way to the
@@ -74,16 +74,11 @@ def stage_repair(context: DemoContext) -> Section:
     V1, F1, cleaned = repair.clean(V, F)
     V1, F1, removal = repair.remove_self_intersections(V1, F1)
     V1, F1, filled = repair.fill_holes(V1, F1)
-    # An open component that the fills closed was oriented by clean as an open one (fewest flips),
-    # so it may now be closed inside out: orient once more, closed components outward.
-    reoriented = repair.orient_faces(V1, F1)
-    F1 = reoriented.F
     after = repair.find_defects(V1, F1)
     figures: dict[str, Any] = {f"before: {name}": value for name, value in before.counts().items() if value}
     figures.update({f"clean: {name}": value for name, value in cleaned.counts().items() if value})
     figures.update({f"self-intersections: {name}": value for name, value in removal.counts().items()})
     figures.update({f"fill holes: {name}": value for name, value in filled.counts().items()})
-    figures["orient after filling: flipped_faces"] = len(reoriented.flipped)
     if filled.patches:
         figures["fill holes: largest dihedral angle in a patch (degrees)"] = max(
             p.max_dihedral_angle for p in filled.patches)
@@ -107,6 +102,6 @@ def stage_repair(context: DemoContext) -> Section:
                    f"meshsmith.repair (§2.4) on a copy of {source} broken as scans are (up to four holes, a vertex "
                    "pushed through the surface, 3% of the faces flipped, 20 duplicated): clean (duplicates "
                    "removed, non-manifold splits, orientation), remove_self_intersections (the intersecting "
-                   "faces cut out and the holes they leave filled), fill_holes (Liepa, refined and faired), "
-                   "orient_faces once more (a component the fills closed faces outward). "
+                   "faces cut out and the holes they leave filled), fill_holes (Liepa, refined and faired; "
+                   "a component the fills close is turned outward). "
                    "The defects find_defects counts before and after:", figures, images)
