@@ -428,3 +428,18 @@ def test_demo_stage_draws_the_field_and_the_dual_loop_layout(tmp_path):
     assert Image.open(tmp_path / "quadrangulation.png").size == (3 * 480, 420)
     figures = context.figures["quadrangulation"]
     assert figures["dual-loop layout complete"] and figures["dual-loop layout quads"] >= 9   # the torus: a grid
+
+
+def test_merged_kitten_closes_its_second_family_only_across_its_first(data_dir):
+    # kitten (genus 1), its smooth field merged to 8 singularities: the strict loops all run around
+    # one handle cycle (annular regions, χ = 0) and nearly every further seed finds no closed loop
+    # in its direction class; allowing loops of one family to cross, the loops around the other
+    # cycle close and every region becomes a disk (presumably the field turns by a quarter turn along
+    # that cycle, so such a loop must meet its own family; not verified). Not complete either way.
+    V, F, strict = merged_layout(data_dir / "kitten.off")
+    check_layout(V, F, strict)
+    assert strict.report.non_disk_regions > 0 and strict.report.seeds_unclosed > 1000 and not strict.report.complete
+    crossing = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, parallel_crossing_penalty=4.0)
+    check_layout(V, F, crossing)
+    report = crossing.report
+    assert report.non_disk_regions == 0 and report.parallel_crossings > 0 and not report.complete
