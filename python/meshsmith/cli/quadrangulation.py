@@ -12,7 +12,12 @@ from .common import ProgressBar, UsageError, add_command, check_output, integer,
 
 #: --method values.
 QUADRANGULATION_METHODS = {"miq": "cross field, mixed-integer parametrization (MIQ), quad extraction",
-                           "spectral": "Morse-Smale complex of a Laplacian eigenfunction, harmonic maps of its cells (§5.2.1)"}
+                           "spectral": "Morse-Smale complex of a Laplacian eigenfunction, harmonic maps of its cells (§5.2.1)",
+                           "dual-loops": "loops along a cross field, their arrangement's dual as a coarse quad layout (§5.3)"}
+
+#: Singularities closer than this many loop spacings are merged before dual loops are traced
+#: (measured: 1.5 makes spot's and fandisk's layouts complete, 1.0 leaves spot 12 singularities).
+DUAL_LOOP_MERGE = 1.5
 
 
 def command_quadrangulate(args: argparse.Namespace) -> int:
@@ -21,20 +26,28 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
         check_output(args.picture, (".png",), "--picture")
     if args.faces is not None and args.edge_length is not None:
         raise UsageError("--faces and --edge-length are exclusive: give one")
+    if args.refine and args.method != "dual-loops":
+        raise UsageError("--refine is for --method dual-loops only")
     V, F = read_mesh(args.input)
     if args.method == "spectral":
         return _spectral(args, V, F)
+    if args.method == "dual-loops":
+        return _dual_loops(args, V, F)
+    align = args.align or "curvature"
     start = time.perf_counter()
     result = quadrangulation.quadrangulate(V, F, target_faces=args.faces, target_edge_length=args.edge_length,
-                                           align=args.align, sharp_angle=args.sharp_angle, progress=ProgressBar())
+                                           align=align, sharp_angle=args.sharp_angle, progress=ProgressBar())
     seconds = time.perf_counter() - start
     io.write_mesh(args.output, result.V, result.Q)
     report = result.report
     if args.picture:
         name = Path(args.input).name
-        pictures = [render.render(V, F, size=(480, 420), uv=result.UV, checker_size=1.0, wireframe=False,
-                                  title=f"{name}: the seamless map's unit grid"),
-                    render.render(result.V, result.Q, size=(480, 420), title=f"{report.quads} quads")]
+        field = quadrangulation.cross_field(V, F, align=align, sharp_angle=args.sharp_angle)
+        pictures = [quadrangulation.field_picture(V, F, field, size=PANEL,
+                                                  title=f"{name}: cross field (before merging)"),
+                    render.render(V, F, size=PANEL, uv=result.UV, checker_size=1.0, wireframe=False,
+                                  title="the seamless map's unit grid"),
+                    render.render(result.V, result.Q, size=PANEL, title=f"{report.quads} quads")]
         render.save_png(np.concatenate(pictures, axis=1), args.picture)
     extraction = report.extraction
     print(f"wrote {args.output}: {len(result.V)} vertices, {report.quads} quads"
@@ -53,6 +66,55 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
     ]
     for key, value in rows:
         print(f"  {key:26s} {value}")
+    return 0
+
+
+#: (width, height) of each panel of --picture.
+PANEL = (480, 420)
+
+
+def _dual_loops(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
+    """--method dual-loops: cross field, merged singularities, dual_loop_layout; writes the layout's quads."""
+    from .. import geometry
+    area = geometry.surface_area(V, F)
+    if args.edge_length is not None:
+        spacing = args.edge_length
+    elif args.faces is not None:
+        spacing = float(np.sqrt(area / args.faces))      # a layout quad per spacing² of surface
+    else:
+        spacing = float(np.sqrt(area)) / 4                # dual_loop_layout's default
+    start = time.perf_counter()
+    field = quadrangulation.cross_field(V, F, align=args.align or "smooth", sharp_angle=args.sharp_angle)
+    merged = quadrangulation.merge_singularities(V, F, field, DUAL_LOOP_MERGE * spacing)
+    layout = quadrangulation.dual_loop_layout(V, F, merged, spacing=spacing, refine=args.refine, progress=ProgressBar())
+    seconds = time.perf_counter() - start
+    io.write_mesh(args.output, layout.Vq, layout.Q)
+    report = layout.report
+    if args.picture:
+        name = Path(args.input).name
+        pictures = [quadrangulation.field_picture(V, F, merged, size=PANEL,
+                                                  title=f"{name}: {len(layout.singular_vertices)} singularities"),
+                    quadrangulation.regions_picture(layout.V_traced, layout.F_traced, layout.region, size=PANEL,
+                                                    marked=layout.Vq_vertex, title=f"{report.loops} loops, "
+                                                    f"{report.regions} regions"),
+                    render.render(layout.Vq, layout.Q, size=PANEL, title=f"{len(layout.Q)} layout quads")]
+        render.save_png(np.concatenate(pictures, axis=1), args.picture)
+    valence = np.bincount(np.bincount(layout.Q.ravel(), minlength=len(layout.Vq))) if len(layout.Q) else np.zeros(1, int)
+    per_region = np.bincount(report.region_singularities) if report.regions else np.zeros(1, int)
+    print(f"wrote {args.output}: {len(layout.Vq)} vertices, {len(layout.Q)} layout quads"
+          + (" (complete)" if report.complete else " (incomplete: see below)"))
+    for key, value in [
+            ("loops / crossings", f"{report.loops} / {report.crossings} (spacing {report.spacing:.4g})"),
+            ("singularities", f"{len(quadrangulation.singularities(V, F, field).vertices)} "
+                              f"-> {len(layout.singular_vertices)} after merging "
+                              f"(index sum {int(layout.singular_indices.sum())})"),
+            ("regions by singularities", ", ".join(f"{k}: {c}" for k, c in enumerate(per_region.tolist()) if c)),
+            ("layout valences", ", ".join(f"{k}: {c}" for k, c in enumerate(valence.tolist()) if c)),
+            ("Euler characteristic", f"{report.euler_layout} (input {report.euler_input})"),
+            ("time", f"{seconds:.2f} s")]:
+        print(f"  {key:26s} {value}")
+    if not report.complete:
+        print(f"  incomplete: {report.failure}")
     return 0
 
 
@@ -90,15 +152,20 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
         + ". Prints the quads, singularities, angle quality and what was left out.",
         examples=["meshsmith quadrangulate mesh.off -o quads.obj --faces 400",
                   "meshsmith quadrangulate mesh.off -o quads.off --edge-length 0.15 --picture quads.png",
-                  "meshsmith quadrangulate mesh.off -o quads.obj --faces 300 --method spectral"])
+                  "meshsmith quadrangulate mesh.off -o quads.obj --faces 300 --method spectral",
+                  "meshsmith quadrangulate mesh.off -o layout.obj --faces 60 --method dual-loops --picture layout.png"])
     parser.add_argument("input", help="triangle mesh file (.obj, .ply, .off, .stl): clean, connected, manifold")
     parser.add_argument("-o", "--output", required=True, help="output quad mesh (.obj, .off, .ply)")
     parser.add_argument("--faces", type=integer(1, 2 ** 24), metavar="N", help="about N quads")
     parser.add_argument("--edge-length", type=number(0, open_low=True), metavar="L", help="quad edge length L")
     parser.add_argument("--method", choices=list(QUADRANGULATION_METHODS), default="miq", help="default: miq")
-    parser.add_argument("--align", choices=("curvature", "boundary", "smooth"), default="curvature",
-                        help="what the cross field follows (default: curvature)")
+    parser.add_argument("--align", choices=("curvature", "boundary", "smooth"), default=None,
+                        help="what the cross field follows (default: curvature; smooth for dual-loops)")
     parser.add_argument("--sharp-angle", type=number(0, 180, open_low=True, open_high=True), metavar="DEG",
                         help="edges sharper than DEG degrees become quad edges")
-    parser.add_argument("--picture", help="also write a PNG: the map's grid on the input and the quad mesh")
+    parser.add_argument("--refine", type=integer(0, 3), default=0, metavar="K",
+                        help="dual-loops: split the mesh 1-to-4 K times before tracing (loops between "
+                             "neighbouring singularities)")
+    parser.add_argument("--picture", help="also write a PNG: the cross field with its singularities, the map's grid "
+                                          "on the input (dual-loops: the loops' regions) and the quad mesh")
     parser.set_defaults(run=command_quadrangulate)

@@ -13,10 +13,12 @@ from .._core import InputError
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
+from ..datasets import _split_in_four
+from ..geometry import surface_area
 from ..repair.unreferenced import on_referenced_vertices
-from .cross_field import FieldLike, field_angles
+from .cross_field import CrossField, FieldLike, field_angles, merge_singularities, singularities
 
-__all__ = ["DualLoopReport", "DualLoopLayout", "dual_loop_layout"]
+__all__ = ["DualLoopReport", "DualLoopLayout", "dual_loop_layout", "RefinedField", "refine_field"]
 
 
 @dataclass(frozen=True)
@@ -93,13 +95,67 @@ class DualLoopLayout(Unpackable):
     singular_vertices: IndexArray
     singular_indices: IndexArray
     report: DualLoopReport
+    V_traced: FloatArray
+    F_traced: IndexArray
+    face_parent: IndexArray
+    theta: FloatArray
+
+
+def _face_directions(V: ArrayLike, F: ArrayLike, theta: ArrayLike) -> FloatArray:
+    """(m, 3) float64 unit vectors at the angles θ (m,) in each face's frame (against the
+    reference edge F[f,0] → F[f,1], counter-clockwise about the face normal), as
+    :attr:`CrossField.directions`. V, F: a validated mesh without zero-area faces."""
+    P, T = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    a, b, c = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    e1 = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
+    t = np.asarray(theta, dtype=np.float64)[:, None]
+    return np.asarray(np.cos(t) * e1 + np.sin(t) * np.cross(normal, e1), dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class RefinedField(Unpackable):
+    """The result of :func:`refine_field`; unpacks as ``V, F, theta, parent``.
+
+    V: (n', 3) float64, F: (m', 3) int64 the split mesh; theta: (m',) float64 the carried field's
+    angles in F's frames; parent: (m',) int64 the input face of each face.
+    """
+
+    V: FloatArray
+    F: IndexArray
+    theta: FloatArray
+    parent: IndexArray
+
+
+def refine_field(V: ArrayLike, F: ArrayLike, field: FieldLike, *, times: int = 1) -> RefinedField:
+    """The mesh split 1-to-4 at its edge midpoints `times` times with the cross field carried over:
+    a :class:`RefinedField` (V2, F2, theta2, parent). Children are coplanar with their parent, so each keeps the parent's
+    cross exactly; the field's singularities stay on the input's vertices (a midpoint sees its two
+    faces' crosses, whose jump it crosses twice: index 0), and two singularities on neighbouring
+    input vertices get a regular vertex between them, through which a loop can pass (§5.3).
+    V: (n, 3), F: (m, 3); field as :func:`dual_loop_layout`. V2 (n', 3): V's referenced vertices
+    in order, then the midpoints; F2 (4^times·m, 3); theta2: angles in F2's frames; parent (4^times·m,)
+    int64: the input face of each. Raises InputError as :func:`field_angles`, for times outside [0, 3].
+    """
+    times = _arguments.integer(times, "times", 0, 3)
+    mesh = on_referenced_vertices(V, F)
+    P, T = np.asarray(mesh.V, dtype=np.float64), np.asarray(mesh.F, dtype=np.int64)
+    theta = field_angles(P, T, field)
+    singularities(P, T, theta)  # the checks of the field's mesh (zero-area faces, manifold) before the splits
+    directions = _face_directions(P, T, theta)
+    parent = np.arange(len(T), dtype=np.int64)
+    for _ in range(times):
+        P, T = _split_in_four(P, T)
+        parent, directions = np.tile(parent, 4), np.tile(directions, (4, 1))  # children: corners a, b, c, middle
+    return RefinedField(V=P, F=T, theta=field_angles(P, T, directions), parent=parent)
 
 
 @_arguments.real_options
 def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: float | None = None,
                      anisotropy: float = 4.0, max_deviation: float = 70.0, max_loops: int = 300,
                      max_failed_seeds: int = 2000, parallel_crossing_penalty: float | None = None,
-                     progress: ProgressCallback = None) -> DualLoopLayout:
+                     merge: float = 0.0, refine: int = 0, progress: ProgressCallback = None) -> DualLoopLayout:
     """A coarse quad layout from dual loops along a cross field (§5.3; Campen, Bommes & Kobbelt 2012).
 
     Loops are closed edge paths following one direction of the field: each is the shortest closed
@@ -118,13 +174,20 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
     layout's edge length); None: sqrt(area) / 4. max_loops, max_failed_seeds: when to give up.
     parallel_crossing_penalty: None (default): loops of one family never cross; a number ≥ 0: they
     may, at that extra cost × spacing (sheared layout quads there, counted in the report).
+    merge: when > 0, the field (a :class:`CrossField`) first has its singularities closer than
+    merge × spacing cancelled or moved apart (:func:`merge_singularities`): a ±1 pair closer than
+    the loops' spacing would need two loops between them. refine: 1-to-4 midpoint splits of the
+    mesh before tracing (:func:`refine_field`, 0 to 3): loops then also run through the input's
+    triangles (via edge midpoints) and can pass between singularities on neighbouring vertices;
+    the result is then on the refined mesh (``V_traced``, ``F_traced``).
     progress: optional callback (fraction, stage) -> bool (False cancels).
     Returns a :class:`DualLoopLayout` (unpacks as ``loops, region, Vq, Q, report``);
     ``report.complete`` says the layout is a manifold quad mesh with the input's Euler
     characteristic and every region a disk with at most one singularity; otherwise
     ``report.failure`` says where it falls short. Raises InputError as :func:`cross_field`, for a
     mesh with boundary, a field with NaN or of the wrong size, spacing ≤ 0, anisotropy < 1,
-    max_deviation outside (0, 90); Cancelled from `progress`.
+    max_deviation outside (0, 90), merge < 0 or with a field that is not a CrossField, refine
+    outside [0, 3]; Cancelled from `progress`.
     """
     theta = field_angles(V, F, field)
     length = 0.0
@@ -132,6 +195,10 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
         length = float(spacing)
         if not (np.isfinite(length) and length > 0):
             raise InputError(f"dual_loop_layout: spacing must be a finite number > 0, got {spacing}")
+    merge = _arguments.real(merge, "merge")
+    if not (np.isfinite(merge) and merge >= 0):
+        raise InputError(f"dual_loop_layout: merge must be a finite number >= 0, got {merge}")
+    times = _arguments.integer(refine, "refine", 0, 3)
     penalty = -1.0
     if parallel_crossing_penalty is not None:
         penalty = float(parallel_crossing_penalty)
@@ -139,14 +206,25 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
             raise InputError(f"dual_loop_layout: parallel_crossing_penalty must be None or a finite number >= 0, "
                              f"got {parallel_crossing_penalty}")
     mesh = on_referenced_vertices(V, F)
-    out = _core.dual_loop_layout(mesh.V, mesh.F, theta, spacing=length, anisotropy=anisotropy,
+    P, T = np.asarray(mesh.V, dtype=np.float64), np.asarray(mesh.F, dtype=np.int64)
+    if merge > 0:
+        if not isinstance(field, CrossField):
+            raise InputError("dual_loop_layout: merge needs the field as a CrossField (from cross_field)")
+        step = length if length > 0 else float(np.sqrt(surface_area(P, T))) / 4  # the C++ default spacing
+        theta = merge_singularities(V, F, field, merge * step).theta
+    parent = np.arange(len(T), dtype=np.int64)
+    if times:
+        P, T, theta, parent = refine_field(P, T, theta, times=times)
+    out = _core.dual_loop_layout(P, T, theta, spacing=length, anisotropy=anisotropy,
                                  max_deviation=max_deviation, max_loops=max_loops,
                                  max_failed_seeds=max_failed_seeds, parallel_crossing_penalty=penalty,
                                  progress=_arguments.progress(progress))
-    to_input = mesh.to_input_indices
+    to_input = mesh.to_input_indices if not times else (lambda indices: np.asarray(indices, dtype=np.int64))
     return DualLoopLayout(
         loops=[to_input(loop) for loop in out["loops"]], loop_crossings=list(out["loop_crossings"]),
         loop_lengths=np.asarray(out["loop_lengths"], dtype=np.float64), region=out["region"], Vq=out["Vq"],
         Vq_vertex=to_input(out["Vq_vertex"]), Q=out["Q"], Q_vertex=to_input(out["Q_vertex"]),
         singular_vertices=to_input(out["singular_vertices"]), singular_indices=out["singular_indices"],
-        report=DualLoopReport(**out["report"]))
+        report=DualLoopReport(**out["report"]), V_traced=np.asarray(V, dtype=np.float64) if not times else P,
+        F_traced=np.asarray(F, dtype=np.int64) if not times else T, face_parent=parent,
+        theta=np.asarray(theta, dtype=np.float64))
