@@ -38,8 +38,9 @@ Volumetric repair (§2.4.2): two overlapping icospheres merged into one face lis
 (default; "meshsmith") against the dense voxel grid (grid="dense", same lattice, same solid) — time,
 peak memory of the call (resident set, measured in a child process) and output->input Hausdorff;
 pymeshfix's MeshFix.repair for scale (other work: it deletes intersecting faces and refills). Then
-(full mode) fandisk.obj at epsilon = extent/1000 on the sparse grid alone, timed once: the dense
-grid would hold 2.6 billion voxels (~26 GB) and refuses. Checks: no self-intersection, no
+(full mode) fandisk.obj at epsilon = extent/500 on the sparse grid alone, timed once: the dense
+grid would hold 3.2e8 voxels (~3.2 GB) and refuses (at extent/1000 it would be 2.6e9 voxels; the
+sparse grid's output there is ~15 million faces, which then dominate memory). Checks: no self-intersection, no
 non-manifold edge, no boundary loop in meshsmith's output; the sparse and dense grids give the same
 number of output faces up to the manifold fix's cells.
 
@@ -241,7 +242,7 @@ def peak_memory(V, F, epsilon, grid):
 def volumetric(directory):
     """Volumetric repair (§2.4.2) of two overlapping spheres merged into one face list, and of fandisk
     (full mode): sparse grid against dense grid (time, memory, Hausdorff); pymeshfix's MeshFix.repair
-    (removes self-intersections by a different method) for scale; fandisk at extent/1000 (full mode)."""
+    (removes self-intersections by a different method) for scale; fandisk at extent/500 (full mode)."""
     V, F = datasets.icosphere(size(5, 3))
     cases = [("two overlapping spheres", np.vstack([V, 0.9 * V + [0.5, 0, 0]]), np.vstack([F, F + len(V)]), 0.04)]
     if directory is not None and not size(False, True):
@@ -272,13 +273,13 @@ def volumetric(directory):
                   f"mean {d.mean() / r.cell_size:.3f} cells")
     if directory is not None and not size(False, True):
         Vf, Ff = meshsmith.io.read_mesh(directory / "fandisk.obj")
-        epsilon = float(np.ptp(Vf, axis=0).max()) / 1000
+        epsilon = float(np.ptp(Vf, axis=0).max()) / 500
         megabytes, seconds, faces, stored, cells = peak_memory(Vf, Ff, epsilon, "sparse")
-        print(f"\n## repair: volumetric repair of fandisk.obj at epsilon = extent/1000 (sparse grid, one run, "
+        print(f"\n## repair: volumetric repair of fandisk.obj at epsilon = extent/500 (sparse grid, one run, "
               f"load average {load_average()})\n  {seconds:.1f} s, peak memory of the call {megabytes:.0f} MB, "
               f"{faces:,} faces out, {stored:,} cells stored of {cells:.3g} ({stored / cells:.2%}; dense: "
               f"~{cells * 10 / 1e9:.0f} GB)")
-        check("repair", "volumetric repair of fandisk.obj at extent/1000", "stored cells / dense cells",
+        check("repair", "volumetric repair of fandisk.obj at extent/500", "stored cells / dense cells",
               stored / cells, 0.02)
 
 

@@ -282,40 +282,52 @@ def test_self_intersections_gaps_and_holes_in_one_mesh():
     assert SurfaceDistance(V2, F2).distances(V[outer]).max() <= epsilon + h
 
 
+def grid_origin(lower, upper, h, rho=0.0):
+    """The lattice's lowest corner as volumetric.cpp places it (grid_placement)."""
+    centred = np.ceil((upper - lower) / h) + 1.0 + 2.0 * (np.ceil(rho / h) + 2.0) + 16.0
+    return (lower + upper) / 2.0 - 0.5 * centred * h
+
+
 def test_conservative_rasterization_of_a_triangle_on_cell_faces():
-    """A square lying exactly on a plane of the lattice (its centre is a lattice corner) occupies both
-    layers of cells it touches, and so it does far from the origin, where the coordinates' rounding
-    error exceeds the old fixed tolerance of 1e-9 cells."""
-    a = 0.3
-    V = np.array([[-a, -a, 0.0], [a, -a, 0], [a, a, 0], [-a, a, 0]])
+    """Three equal squares stacked along z: the bottom and top ones lie inside cell layers (one layer
+    each), the middle one exactly on a plane of the lattice, so it touches two layers and the
+    closed-box test must count both; likewise far from the origin, where the coordinates' rounding
+    error (~1e-10) exceeds the old fixed tolerance of 1e-9 cells (~3e-11)."""
+    epsilon, a = 0.05, 0.3
+    h = epsilon / np.sqrt(3.0)
+    square = np.array([[-a, -a], [a, -a], [a, a], [-a, a]])
     F = np.array([[0, 1, 2], [0, 2, 3]])
-    epsilon = 0.05
-    _, _, report = repair.volumetric_repair(V, F, epsilon=epsilon, smoothing=0)
-    h = report.cell_size
-    nx = report.shape[0]
-    origin = -0.5 * nx * h
-    cells_x = int(np.floor((a - origin) / h) - np.floor((-a - origin) / h)) + 1
-    assert report.occupied_cells == 2 * cells_x ** 2
-    for offset in (1e6, 3.3e7):
-        _, _, far = repair.volumetric_repair(V + offset, F, epsilon=epsilon, smoothing=0)
-        assert far.occupied_cells >= report.occupied_cells
+    F = np.vstack([F, F + 4, F + 8])
+    for offset in (0.0, 1e6, 3.3e7):
+        bottom, top = offset, offset + 30 * h
+        lower, upper = np.array([offset - a, offset - a, bottom]), np.array([offset + a, offset + a, top])
+        origin = grid_origin(lower, upper, h)
+        middle = origin[2] + h * np.round((offset + 15 * h - origin[2]) / h)
+        V = np.vstack([np.column_stack([square + offset, np.full(4, z)]) for z in (bottom, middle, top)])
+        assert np.allclose(V.min(axis=0), lower, rtol=0, atol=0) and np.allclose(V.max(axis=0), upper, rtol=0, atol=0)
+        # Layers each square touches: two when it lies on a lattice plane (within rounding), else one.
+        position = (np.array([bottom, middle, top]) - origin[2]) / h
+        layers = np.where(np.abs(position - np.round(position)) < 1e-6, 2, 1)
+        assert layers[1] == 2
+        cells = [int(np.floor((offset + a - origin[c]) / h) - np.floor((offset - a - origin[c]) / h)) + 1 for c in (0, 1)]
+        _, _, report = repair.volumetric_repair(V, F, epsilon=epsilon, smoothing=0)
+        assert report.cell_size == h
+        assert report.occupied_cells == layers.sum() * cells[0] * cells[1], offset
 
 
 def test_memory_follows_the_surface_not_the_volume(data_dir):
-    """epsilon = extent/1000 on a shared mesh: the dense grid would hold billions of voxels
-    (about 10 bytes each); the sparse grid stores a few voxels per output face."""
-    V, F = read_mesh(data_dir / MEMORY_CASE)
-    extent = float(np.ptp(V, axis=0).max())
-    epsilon = extent / 1000
-    V2, F2, report = repair.volumetric_repair(V, F, epsilon=epsilon, max_cells=2 ** 31)
-    print(f"{MEMORY_CASE} at extent/1000: grid {report.shape} = {report.dense_cells:.3g} voxels dense, "
-          f"{report.stored_cells:,} stored ({report.stored_cells / report.dense_cells:.2%}), "
-          f"{len(F2):,} faces out")
-    assert report.dense_cells > 1e9
-    assert report.stored_cells < 0.02 * report.dense_cells
-    assert report.stored_cells < 40 * len(F2)
-    assert topology.is_manifold(F2) and len(topology.boundary_loops(F2)) == 0
-    assert SurfaceDistance(V, F).distances(V2[::97]).max() <= epsilon + report.cell_size
-
-
-MEMORY_CASE = "torus.obj"
+    """fandisk at epsilon = extent/250: the dense grid needs 4.8e7 voxels (~480 MB), beyond the default
+    max_cells, and refuses; the sparse grid stores under a tenth of them, a few per output face, and
+    gives a closed manifold within epsilon + one cell of the input."""
+    V, F = read_mesh(data_dir / "fandisk.obj")
+    epsilon = float(np.ptp(V, axis=0).max()) / 250
+    with pytest.raises(meshsmith.InputError, match="more than max_cells"):
+        repair.volumetric_repair(V, F, epsilon=epsilon, grid="dense")
+    V2, F2, report = repair.volumetric_repair(V, F, epsilon=epsilon)
+    print(f"fandisk at extent/250: grid {report.shape} = {report.dense_cells:.3g} voxels dense, "
+          f"{report.stored_cells:,} stored ({report.stored_cells / report.dense_cells:.2%}), {len(F2):,} faces out")
+    assert report.dense_cells > 2 ** 25
+    assert report.stored_cells < 0.1 * report.dense_cells
+    assert report.stored_cells < 5 * len(F2)
+    assert topology.is_manifold(F2) and len(topology.boundary_loops(F2)) == 0 and topology.is_oriented(F2)
+    assert SurfaceDistance(V, F).distances(V2[::7]).max() <= epsilon + report.cell_size

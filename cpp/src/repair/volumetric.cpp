@@ -122,17 +122,25 @@ std::vector<std::array<int, 3>> ball_offsets(double r) {
   return offsets;
 }
 
-// Cells an axis of the grid (both grids: the same lattice, so they give the same solid): the
-// bounding box padded by rho + 2 cells + one brick, rounded up to whole bricks; the grid is
-// centred on the box.
+// The grid (both grids: the same lattice, so they give the same solid): the bounding box padded
+// by rho + 2 cells, with the lattice placed as before the sparse grid existed (centred on the box
+// with that count), then one brick more on each side, and rounded up to whole bricks on the high
+// side. counts: cells an axis; origin: the lowest corner.
 constexpr int kBrickBits = 3, kBrick = 1 << kBrickBits, kBrickCells = kBrick * kBrick * kBrick;
-std::array<double, 3> grid_counts(const Vec3& lower, const Vec3& upper, double h, double r_cells) {
-  const double pad = std::ceil(r_cells) + 2.0 + kBrick;
+struct GridPlacement {
   std::array<double, 3> counts;
+  Vec3 origin;
+};
+GridPlacement grid_placement(const Vec3& lower, const Vec3& upper, double h, double r_cells) {
+  const double pad = std::ceil(r_cells) + 2.0;
+  const Vec3 centre = (lower + upper) / 2.0;
+  GridPlacement g;
   for (int a = 0; a < 3; ++a) {
-    counts[a] = kBrick * std::ceil((std::ceil((upper[a] - lower[a]) / h) + 1.0 + 2.0 * pad) / kBrick);
+    const double centred = std::ceil((upper[a] - lower[a]) / h) + 1.0 + 2.0 * pad + 2.0 * kBrick;
+    g.counts[a] = kBrick * std::ceil(centred / kBrick);
+    g.origin[a] = centre[a] - 0.5 * centred * h;
   }
-  return counts;
+  return g;
 }
 
 // The boundary faces of a solid: one quad per cell face between a solid and an empty cell, its
@@ -485,7 +493,8 @@ Boundary sparse_solid_boundary(const VertexRef& V, const FaceRef& F, const Vec3&
   SparseGrid g;
   g.h = h;
   g.max_cells = options.max_cells;
-  const std::array<double, 3> counts = grid_counts(lower, upper, h, r_cells);
+  const GridPlacement placement = grid_placement(lower, upper, h, r_cells);
+  const std::array<double, 3>& counts = placement.counts;
   double bricks = 1.0;
   report.dense_cells = counts[0] * counts[1] * counts[2];
   for (int a = 0; a < 3; ++a) {
@@ -502,8 +511,7 @@ Boundary sparse_solid_boundary(const VertexRef& V, const FaceRef& F, const Vec3&
     throw InputError("volumetric_repair: the sparse grid's coarse array would have " + number_text(bricks) +
                      " bricks, more than max_cells = " + std::to_string(options.max_cells) + "; raise epsilon or max_cells");
   }
-  const Vec3 centre = (lower + upper) / 2.0;
-  for (int a = 0; a < 3; ++a) g.origin[a] = centre[a] - 0.5 * double(g.n[a]) * h;
+  g.origin = placement.origin;
   report.shape = {g.n[0], g.n[1], g.n[2]};
   report.cell_size = h;
   g.brick_of.assign(static_cast<std::size_t>(bricks), -1);
@@ -634,7 +642,8 @@ Boundary dense_solid_boundary(const VertexRef& V, const FaceRef& F, const Vec3& 
   const double h = options.epsilon / std::sqrt(3.0);
   VoxelGrid g;
   g.h = h;
-  const std::array<double, 3> counts = grid_counts(lower, upper, h, options.rho / h);
+  const GridPlacement placement = grid_placement(lower, upper, h, options.rho / h);
+  const std::array<double, 3>& counts = placement.counts;
   const double cells = counts[0] * counts[1] * counts[2];
   for (int a = 0; a < 3; ++a) g.n[a] = counts[a] < double(kAxisLimit) ? static_cast<std::int64_t>(counts[a]) : kAxisLimit + 1;
   report.dense_cells = cells;
@@ -645,8 +654,7 @@ Boundary dense_solid_boundary(const VertexRef& V, const FaceRef& F, const Vec3& 
                      "), more than max_cells = " + std::to_string(options.max_cells) + " or more than " +
                      std::to_string(kAxisLimit) + " along an axis; raise epsilon or max_cells");
   }
-  const Vec3 centre = (lower + upper) / 2.0;
-  for (int a = 0; a < 3; ++a) g.origin[a] = centre[a] - 0.5 * double(g.n[a]) * h;
+  g.origin = placement.origin;
   report.shape = {g.n[0], g.n[1], g.n[2]};
   report.cell_size = h;
   const std::int64_t N = g.size();
@@ -747,93 +755,97 @@ VolumetricResult contour(const VertexRef& V, const FaceRef& F, Boundary boundary
   }
   std::vector<std::int64_t>().swap(keys);
 
-  // Hermite data: the plane of the nearest input triangle to each quad's centre.
-  VertexMatrix centres(nq, 3);
-  for (Eigen::Index q = 0; q < nq; ++q) {
-    centres.row(q) = 0.25 * (corner.row(Q(q, 0)) + corner.row(Q(q, 1)) + corner.row(Q(q, 2)) + corner.row(Q(q, 3)));
-  }
-  const geometry::SurfaceDistance surface(V, F);
-  const geometry::ClosestPoints nearest = surface.closest_points(centres, progress.subrange(0.65, 0.75));
-  std::vector<Eigen::Matrix3d> ata(nv, Eigen::Matrix3d::Zero());
-  std::vector<Vec3> atb(nv, Vec3::Zero()), mass(nv, Vec3::Zero());
-  std::vector<int> samples(nv, 0);
-  for (Eigen::Index q = 0; q < nq; ++q) {
-    if (nearest.distances[q] > 1.5 * h) continue;
-    const int f = nearest.faces[q];
-    const Vec3 a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
-    Vec3 n = (b - a).cross(c - a);
-    if (!(n.norm() > 0.0)) continue;
-    n.normalize();
-    const Vec3 p = nearest.points.row(q).transpose();
-    for (int k = 0; k < 4; ++k) {
-      const int v = Q(q, k);
-      ata[v] += n * n.transpose();
-      atb[v] += n * n.dot(p);
-      mass[v] += p;
-      ++samples[v];
-    }
-  }
+  // The QEFs and the smoothing in a scope of their own: their arrays (~250 bytes a vertex) are
+  // freed before the untangling checks the mesh.
   VertexMatrix X = corner;
-  std::vector<Eigen::Matrix3d> free_directions(nv, Eigen::Matrix3d::Identity());
-  // A vertex's cell: the 8 voxels around its corner (the occupied ones among them hold the input
-  // surface, which may lie anywhere in them, since occupied voxels count as inside).
-  auto clamp = [&](Eigen::Index v, const Vec3& x) {
-    const Vec3 c = corner.row(v).transpose();
-    return x.cwiseMax(c - Vec3::Constant(h)).cwiseMin(c + Vec3::Constant(h)).eval();
-  };
-  for (Eigen::Index v = 0; v < nv; ++v) {
-    if (samples[v] == 0) {
-      ++report.unconstrained_vertices;
-      continue;
-    }
-    const Vec3 m = mass[v] / samples[v];
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(ata[v]);
-    const Vec3 rhs = atb[v] - ata[v] * m;
-    const double largest = eig.eigenvalues().maxCoeff();
-    Vec3 x = m;
-    int rank = 0;
-    Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
-    for (int i = 0; i < 3; ++i) {
-      const double l = eig.eigenvalues()[i];
-      if (l > 0.02 * largest && l > 0.0) {
-        const Vec3 e = eig.eigenvectors().col(i);
-        x += e * (e.dot(rhs) / l);
-        P -= e * e.transpose();
-        ++rank;
-      }
-    }
-    if (rank >= 2) ++report.sharp_vertices;
-    free_directions[v] = P;
-    X.row(v) = clamp(v, x).transpose();
-  }
-
-  // 7. Feature-aware smoothing along the QEF's null space.
-  if (options.smoothing > 0) {
-    std::vector<Eigen::Index> offsets(nv + 1, 0);
+  {
+    // Hermite data: the plane of the nearest input triangle to each quad's centre.
+    VertexMatrix centres(nq, 3);
     for (Eigen::Index q = 0; q < nq; ++q) {
-      for (int k = 0; k < 4; ++k) offsets[Q(q, k) + 1] += 2;
+      centres.row(q) = 0.25 * (corner.row(Q(q, 0)) + corner.row(Q(q, 1)) + corner.row(Q(q, 2)) + corner.row(Q(q, 3)));
     }
-    for (Eigen::Index v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
-    std::vector<int> neighbours(offsets[nv]);
-    std::vector<Eigen::Index> fill(offsets.begin(), offsets.end() - 1);
+    const geometry::SurfaceDistance surface(V, F);
+    const geometry::ClosestPoints nearest = surface.closest_points(centres, progress.subrange(0.65, 0.75));
+    std::vector<Eigen::Matrix3d> ata(nv, Eigen::Matrix3d::Zero());
+    std::vector<Vec3> atb(nv, Vec3::Zero()), mass(nv, Vec3::Zero());
+    std::vector<int> samples(nv, 0);
     for (Eigen::Index q = 0; q < nq; ++q) {
+      if (nearest.distances[q] > 1.5 * h) continue;
+      const int f = nearest.faces[q];
+      const Vec3 a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
+      Vec3 n = (b - a).cross(c - a);
+      if (!(n.norm() > 0.0)) continue;
+      n.normalize();
+      const Vec3 p = nearest.points.row(q).transpose();
       for (int k = 0; k < 4; ++k) {
         const int v = Q(q, k);
-        neighbours[fill[v]++] = Q(q, (k + 1) % 4);
-        neighbours[fill[v]++] = Q(q, (k + 3) % 4);
+        ata[v] += n * n.transpose();
+        atb[v] += n * n.dot(p);
+        mass[v] += p;
+        ++samples[v];
       }
     }
-    for (int round = 0; round < options.smoothing; ++round) {
-      progress.subrange(0.75, 0.8).report(double(round) / options.smoothing, "smoothing");
-      VertexMatrix next = X;
-      for (Eigen::Index v = 0; v < nv; ++v) {
-        Vec3 mean = Vec3::Zero();
-        for (Eigen::Index e = offsets[v]; e < offsets[v + 1]; ++e) mean += X.row(neighbours[e]).transpose();
-        mean /= double(offsets[v + 1] - offsets[v]);
-        const Vec3 x = X.row(v).transpose();
-        next.row(v) = clamp(v, x + 0.5 * free_directions[v] * (mean - x)).transpose();
+    std::vector<Eigen::Matrix3d> free_directions(nv, Eigen::Matrix3d::Identity());
+    // A vertex's cell: the 8 voxels around its corner (the occupied ones among them hold the input
+    // surface, which may lie anywhere in them, since occupied voxels count as inside).
+    auto clamp = [&](Eigen::Index v, const Vec3& x) {
+      const Vec3 c = corner.row(v).transpose();
+      return x.cwiseMax(c - Vec3::Constant(h)).cwiseMin(c + Vec3::Constant(h)).eval();
+    };
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      if (samples[v] == 0) {
+        ++report.unconstrained_vertices;
+        continue;
       }
-      X.swap(next);
+      const Vec3 m = mass[v] / samples[v];
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(ata[v]);
+      const Vec3 rhs = atb[v] - ata[v] * m;
+      const double largest = eig.eigenvalues().maxCoeff();
+      Vec3 x = m;
+      int rank = 0;
+      Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+      for (int i = 0; i < 3; ++i) {
+        const double l = eig.eigenvalues()[i];
+        if (l > 0.02 * largest && l > 0.0) {
+          const Vec3 e = eig.eigenvectors().col(i);
+          x += e * (e.dot(rhs) / l);
+          P -= e * e.transpose();
+          ++rank;
+        }
+      }
+      if (rank >= 2) ++report.sharp_vertices;
+      free_directions[v] = P;
+      X.row(v) = clamp(v, x).transpose();
+    }
+
+    // 7. Feature-aware smoothing along the QEF's null space.
+    if (options.smoothing > 0) {
+      std::vector<Eigen::Index> offsets(nv + 1, 0);
+      for (Eigen::Index q = 0; q < nq; ++q) {
+        for (int k = 0; k < 4; ++k) offsets[Q(q, k) + 1] += 2;
+      }
+      for (Eigen::Index v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+      std::vector<int> neighbours(offsets[nv]);
+      std::vector<Eigen::Index> fill(offsets.begin(), offsets.end() - 1);
+      for (Eigen::Index q = 0; q < nq; ++q) {
+        for (int k = 0; k < 4; ++k) {
+          const int v = Q(q, k);
+          neighbours[fill[v]++] = Q(q, (k + 1) % 4);
+          neighbours[fill[v]++] = Q(q, (k + 3) % 4);
+        }
+      }
+      for (int round = 0; round < options.smoothing; ++round) {
+        progress.subrange(0.75, 0.8).report(double(round) / options.smoothing, "smoothing");
+        VertexMatrix next = X;
+        for (Eigen::Index v = 0; v < nv; ++v) {
+          Vec3 mean = Vec3::Zero();
+          for (Eigen::Index e = offsets[v]; e < offsets[v + 1]; ++e) mean += X.row(neighbours[e]).transpose();
+          mean /= double(offsets[v + 1] - offsets[v]);
+          const Vec3 x = X.row(v).transpose();
+          next.row(v) = clamp(v, x + 0.5 * free_directions[v] * (mean - x)).transpose();
+        }
+        X.swap(next);
+      }
     }
   }
 
@@ -849,24 +861,67 @@ VolumetricResult contour(const VertexRef& V, const FaceRef& F, Boundary boundary
       result.F.row(2 * q + 1) << b, c, d;
     }
   }
-  std::vector<std::uint8_t> moved(nv, 0);
+  Q.resize(0, 4);
+  // The first round checks every face; a later one only the faces near those whose vertices the
+  // previous round moved (faces that did not change were checked already, and a face meeting a
+  // changed one lies near it: a vertex stays within h of its grid corner along each axis and a
+  // face's corners are adjacent grid corners, so the corners of two meeting faces differ by at
+  // most 4 along each axis: buckets of 8×8×8 corners and their 26 neighbours cover them).
+  std::vector<std::uint8_t> moved(nv, 0), changed;
+  auto bucket_key = [&](Eigen::Index v, int dx, int dy, int dz) {
+    const Vec3 c = (corner.row(v).transpose() - origin) / h;
+    return pack(std::llround(c[0]) / 8 + 1 + dx, std::llround(c[1]) / 8 + 1 + dy, std::llround(c[2]) / 8 + 1 + dz);
+  };
   for (int round = 0;; ++round) {
     progress.subrange(0.8, 1.0).report(std::min(0.95, round / 20.0), "untangle");
-    const EdgeMatrix pairs = self_intersections(X, result.F);
+    EdgeMatrix pairs;
+    if (round == 0) {
+      pairs = self_intersections(X, result.F);
+    } else {
+      std::vector<std::int64_t> near;
+      for (Eigen::Index f = 0; f < result.F.rows(); ++f) {
+        if (!(changed[result.F(f, 0)] || changed[result.F(f, 1)] || changed[result.F(f, 2)])) continue;
+        for (int c = 0; c < 3; ++c) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            for (int dy = -1; dy <= 1; ++dy) {
+              for (int dz = -1; dz <= 1; ++dz) near.push_back(bucket_key(result.F(f, c), dx, dy, dz));
+            }
+          }
+        }
+      }
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      std::vector<Eigen::Index> subset;
+      for (Eigen::Index f = 0; f < result.F.rows(); ++f) {
+        for (int c = 0; c < 3; ++c) {
+          if (std::binary_search(near.begin(), near.end(), bucket_key(result.F(f, c), 0, 0, 0))) {
+            subset.push_back(f);
+            break;
+          }
+        }
+      }
+      FaceMatrix Fs(static_cast<Eigen::Index>(subset.size()), 3);
+      for (std::size_t i = 0; i < subset.size(); ++i) Fs.row(Eigen::Index(i)) = result.F.row(subset[i]);
+      pairs = self_intersections(X, Fs);
+      for (Eigen::Index p = 0; p < pairs.rows(); ++p) {
+        pairs(p, 0) = static_cast<int>(subset[std::size_t(pairs(p, 0))]);
+        pairs(p, 1) = static_cast<int>(subset[std::size_t(pairs(p, 1))]);
+      }
+    }
     if (pairs.rows() == 0) break;
     if (round >= 64) {
       X = corner;  // the voxel surface itself: embedded
       std::fill(moved.begin(), moved.end(), 1);
       break;
     }
-    std::vector<std::uint8_t> hit(nv, 0);
+    changed.assign(nv, 0);
     for (Eigen::Index p = 0; p < pairs.rows(); ++p) {
       for (int s = 0; s < 2; ++s) {
-        for (int c = 0; c < 3; ++c) hit[result.F(pairs(p, s), c)] = 1;
+        for (int c = 0; c < 3; ++c) changed[result.F(pairs(p, s), c)] = 1;
       }
     }
     for (Eigen::Index v = 0; v < nv; ++v) {
-      if (!hit[v]) continue;
+      if (!changed[v]) continue;
       moved[v] = 1;
       X.row(v) = round < 8 ? (0.5 * (X.row(v) + corner.row(v))).eval() : corner.row(v);
     }
