@@ -48,33 +48,39 @@ struct VolumetricResult {
 };
 
 /// Volumetric repair of a triangle soup. Steps: (1) voxels of edge h = ε/√3 over the bounding box
-/// padded by ρ + 2h (+ 8h, sparse); a voxel is occupied when a triangle overlaps it (separating-
-/// axis test of Akenine-Möller made conservative in floating point: the box is enlarged by a
-/// bound on the rounding error of every projection, so no voxel a triangle touches is missed),
-/// found by recursive octant subdivision of the triangle's bounding cube (cost ∝ its area in
-/// cells). (2) Closing by ρ: voxels whose centres lie within ρ of an occupied one's are filled,
-/// the outside is flood-filled (6-connected) from the grid's corner, every voxel it does not
-/// reach is inside, then the outside grows back by ρ; occupied voxels always stay inside. Sparse
-/// (default): dilation and erosion are balls of radius ρ stamped around the rim cells of the
-/// occupied set and of the outside (the nearest cell of a set is on its rim), the flood fill
-/// visits a uniform brick as one node, and only bricks the stamps or the flood's walls touch
-/// store cells, so memory and time follow the surface's area in cells (× ρ/h), plus one byte
-/// and one int32 per brick of the bounding box (1/512 of the dense grid). Dense: exact Euclidean
-/// distance transforms (Felzenszwalb & Huttenlocher) over every voxel; the same solid. (3) The solid is made well-composed (no two
-/// voxels meeting only along an edge or at a corner without a common face neighbour, in the solid
-/// or in its complement) by adding voxels until none of those configurations is left; the voxel
-/// boundary of a well-composed set is a 2-manifold, so the dual-contouring mesh, which has its
-/// combinatorics (one vertex per boundary grid corner, one quad per boundary voxel face), is closed
-/// and manifold by construction (the project's answer to DC's non-manifold cells). (4) Each vertex
-/// minimizes the QEF of the planes of the input triangles nearest to the centres of its boundary
-/// faces (pseudo-inverse truncated at 2% of the largest eigenvalue, about the mass point), clamped
-/// to its cell (the 8 voxels around the corner, corner ± h: occupied voxels count as inside, so the
-/// input surface may lie anywhere in them), so sharp edges and corners survive; vertices without input
-/// surface within 1.5h stay at the corner. (5) Smoothing moves each vertex towards the mean of its
-/// neighbours only along the null space of its QEF (flat vertices glide in their plane, edge
-/// vertices along the edge, corners stay), clamped to the cell. (6) Quads are split along the
-/// shorter diagonal; faces found intersecting (repair::self_intersections) have their vertices
-/// moved towards their corners until none is left (the all-corner voxel surface is embedded).
+/// padded by ρ + 2h + 8h (the same lattice for both grids); a voxel is occupied when a triangle
+/// overlaps it (separating-axis test of Akenine-Möller made conservative in floating point: the box is
+/// enlarged by a bound on the rounding error of every projection, so no voxel a triangle touches is
+/// missed), found by recursive octant subdivision of the triangle's bounding cube (cost ∝ its area in
+/// cells). (2) Closing by ρ: voxels whose centres lie within ρ of an occupied one's are filled, the
+/// outside is flood-filled (6-connected) from the grid's corner, every voxel it does not reach is
+/// inside, then the outside grows back by ρ; occupied voxels always stay inside. Sparse (default):
+/// dilation and erosion are balls of radius ρ stamped around the rim cells of the occupied set and of
+/// the outside (the nearest cell of a set is on its rim), the flood fill visits a uniform brick as one
+/// node, and only bricks the stamps or the flood's walls touch store cells, so memory and time follow
+/// the surface's area in cells (× ρ/h), plus one byte and one int32 per brick of the bounding box
+/// (1/512 of the dense grid). Dense: exact Euclidean distance transforms (Felzenszwalb & Huttenlocher)
+/// over every voxel; the same solid. Why bricks and not an adaptive octree: the output has one vertex
+/// per boundary corner of the finest cells either way (this extraction does not merge flat regions into
+/// coarse cells), so an octree would only change how the empty and the enclosed space is stored, which
+/// the coarse brick array already makes 512× smaller; the bricks keep the dense grid's neighbour
+/// arithmetic, its well-composedness fix and so its manifold guarantee unchanged (no cracks between
+/// cells of different size to handle). (3) The solid is made well-composed (no two voxels meeting only
+/// along an edge or at a corner without a common face neighbour, in the solid or in its complement) by
+/// adding voxels until none of those configurations is left; the voxel boundary of a well-composed set
+/// is a 2-manifold, so the dual-contouring mesh, which has its combinatorics (one vertex per boundary
+/// grid corner, one quad per boundary voxel face), is closed and manifold by construction (the
+/// project's answer to DC's non-manifold cells). (4) Each vertex minimizes the QEF of the planes of the
+/// input triangles nearest to the centres of its boundary faces (pseudo-inverse truncated at 2% of the
+/// largest eigenvalue, about the mass point), clamped to its cell (the 8 voxels around the corner,
+/// corner ± h: occupied voxels count as inside, so the input surface may lie anywhere in them), so
+/// sharp edges and corners survive; vertices without input surface within 1.5h stay at the corner. (5)
+/// Smoothing moves each vertex towards the mean of its neighbours only along the null space of its QEF
+/// (flat vertices glide in their plane, edge vertices along the edge, corners stay), clamped to the
+/// cell. (6) Quads are split along the shorter diagonal; faces found intersecting
+/// (repair::self_intersections) have their vertices moved towards their corners until none is left (the
+/// all-corner voxel surface is embedded); the first check covers every face, later ones only the faces
+/// near the vertices just moved.
 /// V: #V×3, F: #F×3 (validate_mesh). Memory: sparse, 512 bytes a stored brick + 5 bytes a brick
 /// of the box + ~250 bytes an output vertex; dense, about 10 bytes a voxel.
 /// \throw InputError if validate_mesh fails, epsilon is not finite and > 0, rho is not finite and
