@@ -34,9 +34,15 @@ and every input face, and its largest patch angle is below 150° and no larger t
 plus 30°.
 
 Volumetric repair (§2.4.2): two overlapping icospheres merged into one face list (2 × 20,480 faces;
-2 × 1,280 in quick mode) and fandisk.obj (full mode); pymeshfix's MeshFix.repair for scale (other
-work: it deletes intersecting faces and refills). Checks: no self-intersection, no non-manifold
-edge, no boundary loop in meshsmith's output.
+2 × 1,280 in quick mode) and fandisk.obj at epsilon = extent/80 (full mode): the sparse grid
+(default; "meshsmith") against the dense voxel grid (grid="dense", same lattice, same solid) — time,
+peak memory of the call (resident set, measured in a child process) and output->input Hausdorff;
+pymeshfix's MeshFix.repair for scale (other work: it deletes intersecting faces and refills). Then
+(full mode) fandisk.obj at epsilon = extent/500 on the sparse grid alone, timed once: the dense
+grid would hold 3.2e8 voxels (~3.2 GB) and refuses (at extent/1000 it would be 2.6e9 voxels; the
+sparse grid's output there is ~15 million faces, which then dominate memory). Checks: no self-intersection, no
+non-manifold edge, no boundary loop in meshsmith's output; the sparse and dense grids give the same
+number of output faces up to the manifold fix's cells.
 
 Zippering (§2.4.1): repair.zipper of two overlapping halves of a sphere triangulated differently (an
 icosphere's upper part and a rotated icosphere's lower part, 2 × ~6,000 faces; ~1,500 in quick mode)
@@ -51,7 +57,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from harness import Benchmark, optional, shared_data_dir, size  # noqa: E402
+from harness import Benchmark, check, load_average, optional, shared_data_dir, size  # noqa: E402
 
 import meshsmith  # noqa: E402
 from meshsmith import datasets, repair, topology  # noqa: E402
@@ -205,9 +211,38 @@ def intersections():
                     len(set(ours.tolist()) ^ set(theirs.tolist())), 0)
 
 
+PEAK_MEMORY_SCRIPT = """
+import resource, sys, time
+import numpy as np
+from meshsmith import repair
+data = np.load(sys.argv[1])
+V, F = data["V"], data["F"]
+before = int(next(line.split()[1] for line in open("/proc/self/status") if line.startswith("VmRSS")))
+start = time.perf_counter()
+V2, F2, report = repair.volumetric_repair(V, F, epsilon=float(sys.argv[2]), grid=sys.argv[3], max_cells=2 ** 34)
+elapsed = time.perf_counter() - start
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print(peak - before, elapsed, len(F2), report.stored_cells, report.dense_cells)
+"""
+
+
+def peak_memory(V, F, epsilon, grid):
+    """(resident memory the call added at its peak in MB, seconds, output faces, stored cells, dense
+    cells) of volumetric_repair in a child process (ru_maxrss minus the resident set before the call)."""
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "mesh.npz"
+        np.savez(path, V=np.asarray(V, dtype=float), F=np.asarray(F, dtype=np.int64))
+        out = subprocess.run([sys.executable, "-c", PEAK_MEMORY_SCRIPT, str(path), repr(epsilon), grid],
+                             capture_output=True, text=True, check=True).stdout.split()
+    return int(out[0]) / 1024, float(out[1]), int(out[2]), int(out[3]), float(out[4])
+
+
 def volumetric(directory):
     """Volumetric repair (§2.4.2) of two overlapping spheres merged into one face list, and of fandisk
-    (full mode); pymeshfix's MeshFix.repair (removes self-intersections by a different method) for scale."""
+    (full mode): sparse grid against dense grid (time, memory, Hausdorff); pymeshfix's MeshFix.repair
+    (removes self-intersections by a different method) for scale; fandisk at extent/500 (full mode)."""
     V, F = datasets.icosphere(size(5, 3))
     cases = [("two overlapping spheres", np.vstack([V, 0.9 * V + [0.5, 0, 0]]), np.vstack([F, F + len(V)]), 0.04)]
     if directory is not None and not size(False, True):
@@ -216,17 +251,36 @@ def volumetric(directory):
     for name, V2, F2, epsilon in cases:
         bench = Benchmark("repair", f"volumetric repair of {name} ({len(F2):,} faces, epsilon {epsilon:.3g})")
         bench.time("meshsmith", lambda: repair.volumetric_repair(V2, F2, epsilon=epsilon))
+        bench.time("meshsmith dense grid", lambda: repair.volumetric_repair(V2, F2, epsilon=epsilon, grid="dense"))
         pymeshfix = optional("pymeshfix")
         if pymeshfix:
             bench.time("pymeshfix MeshFix.repair", lambda: meshfix_repaired(pymeshfix, V2, F2), same_work=False)
         bench.report()
         Vo, Fo, report = bench.output("meshsmith")
+        Vd, Fd, dense = bench.output("meshsmith dense grid")
         bench.check("self-intersecting pairs in the output", len(repair.self_intersections(Vo, Fo)), 0)
         bench.check("non-manifold edges in the output", len(topology.non_manifold_edges(Fo)), 0)
         bench.check("boundary loops in the output", len(topology.boundary_loops(Fo)), 0)
-        d = meshsmith.geometry.SurfaceDistance(V2, F2).distances(Vo)
-        print(f"  meshsmith: {len(Fo):,} faces, grid {report.shape}, output->input Hausdorff "
-              f"{d.max() / report.cell_size:.2f} cells, mean {d.mean() / report.cell_size:.3f} cells")
+        bench.check("inside cells, sparse minus dense, beyond the manifold fix's",
+                    abs((report.inside_cells - report.manifold_cells) - (dense.inside_cells - dense.manifold_cells)), 0)
+        surface = meshsmith.geometry.SurfaceDistance(V2, F2)
+        for label, (W, G, r) in (("sparse", (Vo, Fo, report)), ("dense", (Vd, Fd, dense))):
+            d = surface.distances(W)
+            megabytes, _, _, _, _ = peak_memory(V2, F2, epsilon, label)
+            print(f"  meshsmith {label} grid: {len(G):,} faces, grid {r.shape}, {r.stored_cells:,} cells stored "
+                  f"({r.stored_cells / r.dense_cells:.1%} of {r.dense_cells:,.0f}), peak memory of the call "
+                  f"{megabytes:.0f} MB, output->input Hausdorff {d.max() / r.cell_size:.2f} cells, "
+                  f"mean {d.mean() / r.cell_size:.3f} cells")
+    if directory is not None and not size(False, True):
+        Vf, Ff = meshsmith.io.read_mesh(directory / "fandisk.obj")
+        epsilon = float(np.ptp(Vf, axis=0).max()) / 500
+        megabytes, seconds, faces, stored, cells = peak_memory(Vf, Ff, epsilon, "sparse")
+        print(f"\n## repair: volumetric repair of fandisk.obj at epsilon = extent/500 (sparse grid, one run, "
+              f"load average {load_average()})\n  {seconds:.1f} s, peak memory of the call {megabytes:.0f} MB, "
+              f"{faces:,} faces out, {stored:,} cells stored of {cells:.3g} ({stored / cells:.2%}; dense: "
+              f"~{cells * 10 / 1e9:.0f} GB)")
+        check("repair", "volumetric repair of fandisk.obj at extent/500", "stored cells / dense cells",
+              stored / cells, 0.1)
 
 
 def remove_intersections():

@@ -282,14 +282,16 @@ def command_repair(args: argparse.Namespace) -> int:
         V1, F1, rebuilt = repair.volumetric_repair(V1, F1, epsilon=args.volumetric, rho=args.rho or 0.0,
                                                    progress=stages.part())
         record["volumetric"] = {"epsilon": args.volumetric, "rho": args.rho or 0.0, "shape": list(rebuilt.shape),
-                                "cell_size": rebuilt.cell_size, "occupied_cells": rebuilt.occupied_cells,
+                                "cell_size": rebuilt.cell_size, "stored_cells": rebuilt.stored_cells,
+                                "occupied_cells": rebuilt.occupied_cells,
                                 "inside_cells": rebuilt.inside_cells, "closing_cells": rebuilt.closing_cells,
                                 "manifold_cells": rebuilt.manifold_cells, "sharp_vertices": rebuilt.sharp_vertices,
                                 "unconstrained_vertices": rebuilt.unconstrained_vertices,
                                 "untangled_vertices": rebuilt.untangled_vertices}
         nx, ny, nz = rebuilt.shape
         lines.append(f"volumetric: rebuilt on a {nx} x {ny} x {nz} grid of cell {rebuilt.cell_size:.6g} "
-                     f"(epsilon {args.volumetric:g}, rho {args.rho or 0.0:g}); {rebuilt.closing_cells:,} cells closed "
+                     f"(epsilon {args.volumetric:g}, rho {args.rho or 0.0:g}; {rebuilt.stored_cells:,} cells stored, "
+                     f"near the surface); {rebuilt.closing_cells:,} cells closed "
                      f"by rho, {rebuilt.sharp_vertices:,} vertices on sharp features, "
                      f"{rebuilt.unconstrained_vertices:,} over holes and gaps")
     stages.start("checking")

@@ -1,5 +1,5 @@
-"""Volumetric repair (§2.4.2, after Ju 2004): rasterize into voxels, close by rho, flood-fill,
-extract a closed manifold by dual contouring with QEF vertices; binding
+"""Volumetric repair (§2.4.2, after Ju 2004): rasterize into voxels (stored sparsely near the
+surface), close by rho, flood-fill, extract a closed manifold by dual contouring with QEF vertices; binding
 cpp/python/repair_volumetric.cpp, C++ src/repair/volumetric.cpp."""
 from __future__ import annotations
 
@@ -21,7 +21,9 @@ __all__ = ["VolumetricReport", "VolumetricMesh", "volumetric_repair"]
 class VolumetricReport(Unpackable):
     """What :func:`volumetric_repair` did; unpacks as ``shape, cell_size``.
 
-    shape: voxels per axis; cell_size: the voxel edge (epsilon/√3); occupied_cells: voxels a
+    shape: voxels per axis of the whole grid (stored or not); cell_size: the voxel edge (epsilon/√3);
+    dense_cells: the product of shape (what a dense grid holds); stored_cells: the voxels actually
+    stored (sparse grid: 512 per brick near the surface; dense: all); occupied_cells: voxels a
     triangle overlaps; inside_cells: voxels of the final solid; closing_cells: voxels the closing
     by rho added beyond the occupied and enclosed ones; manifold_cells: voxels added so that the
     solid's boundary is a manifold (well-composed); sharp_vertices: output vertices on a feature
@@ -32,6 +34,8 @@ class VolumetricReport(Unpackable):
 
     shape: tuple[int, int, int]
     cell_size: float
+    dense_cells: float
+    stored_cells: int
     occupied_cells: int
     inside_cells: int
     closing_cells: int
@@ -53,12 +57,14 @@ class VolumetricMesh(NamedTuple):
 
 @_arguments.real_options
 def volumetric_repair(V: ArrayLike, F: ArrayLike, *, epsilon: float, rho: float = 0.0, smoothing: int = 3,
-                      max_cells: int = 2 ** 25, progress: ProgressCallback = None) -> VolumetricMesh:
+                      max_cells: int = 2 ** 25, grid: str = "sparse",
+                      progress: ProgressCallback = None) -> VolumetricMesh:
     """Rebuild a triangle soup as a closed, manifold, outward-oriented mesh (§2.4.2).
 
     The triangles are rasterized into voxels of diagonal ``epsilon`` (edge epsilon/√3; a voxel is
-    occupied when a triangle overlaps it, by the separating-axis test). The occupied voxels are
-    dilated by ``rho`` (exact Euclidean distance transform), the outside is flood-filled from the
+    occupied when a triangle overlaps it, by a separating-axis test made conservative in floating
+    point, so no touched voxel is missed). The occupied voxels are dilated by ``rho`` (voxels whose
+    centre is within rho of an occupied one's), the outside is flood-filled from the
     grid's corner, every voxel it does not reach is inside, and the outside grows back by ``rho``:
     gaps and holes up to about 2·rho wide are closed, self-intersections and overlapping
     components vanish (only the outer surface of their union is kept; cavities are filled). The
@@ -75,10 +81,20 @@ def volumetric_repair(V: ArrayLike, F: ArrayLike, *, epsilon: float, rho: float 
     Where the input is valid, every output vertex lies within about one cell of it; where a hole
     was closed the patch is flat-ish (a distance from the input up to about rho).
 
-    V: (n, 3) float array, F: (m, 3) integer array (any soup). Memory about 10 bytes a voxel.
+    ``grid="sparse"`` (default) stores voxels only in 8×8×8 bricks near the surface (occupied,
+    within rho of it, or touched by the erosion and the manifold fix); every other brick is one
+    state byte, classified whole by the flood fill (outside, or enclosed: solid), so memory and
+    time follow the surface's area in voxels, not the bounding box's volume (e.g. epsilon =
+    extent/1000 runs where the dense grid would need gigabytes). ``grid="dense"`` stores every
+    voxel (about 10 bytes each; exact Euclidean distance transforms); both give the same mesh.
+    ``max_cells`` caps the voxels stored (sparse: the bricks' voxels, and the number of bricks of
+    the bounding box; dense: all).
+
+    V: (n, 3) float array, F: (m, 3) integer array (any soup).
     Returns a :class:`VolumetricMesh` ``(V, F, report)``. Raises InputError for bad input,
-    ``epsilon`` not finite and > 0, ``rho`` not finite and >= 0, or a grid of more than
-    ``max_cells`` voxels (the message gives the count); Cancelled from ``progress``.
+    ``epsilon`` not finite and > 0, ``rho`` not finite and >= 0, ``grid`` not "sparse" or "dense",
+    or more than ``max_cells`` voxels to store (the message gives the count); Cancelled from
+    ``progress``.
     """
     epsilon = float(epsilon)
     rho = float(rho)
@@ -88,10 +104,13 @@ def volumetric_repair(V: ArrayLike, F: ArrayLike, *, epsilon: float, rho: float 
         raise InputError(f"rho = {rho!r}: expected a finite number >= 0")
     smoothing = _arguments.integer(smoothing, "smoothing", 0, 1000)
     max_cells = _arguments.integer(max_cells, "max_cells", 1, 2 ** 62)
+    if grid not in ("sparse", "dense"):
+        raise InputError(f"grid = {grid!r}: expected 'sparse' or 'dense'")
     V2, F2, raw = _core.volumetric_repair(V, F, epsilon=epsilon, rho=rho, smoothing=smoothing,
-                                          max_cells=max_cells, progress=progress)
+                                          max_cells=max_cells, dense=grid == "dense", progress=progress)
     nx, ny, nz = (int(s) for s in raw["shape"])
     report = VolumetricReport(shape=(nx, ny, nz), cell_size=float(raw["cell_size"]),
+                              dense_cells=float(raw["dense_cells"]), stored_cells=int(raw["stored_cells"]),
                               occupied_cells=int(raw["occupied_cells"]), inside_cells=int(raw["inside_cells"]),
                               closing_cells=int(raw["closing_cells"]), manifold_cells=int(raw["manifold_cells"]),
                               sharp_vertices=int(raw["sharp_vertices"]),

@@ -1,9 +1,10 @@
 #pragma once
 /// \file volumetric.h
 /// Volumetric repair (§2.4.2 of the curriculum; after Ju 2004 "Robust repair of polygonal models",
-/// with dual contouring, Ju et al. 2002): the triangles are rasterized into a regular grid of
-/// voxels, the occupied voxels are closed by ρ (dilated, flood-filled from outside, eroded back),
-/// and the boundary of the solid is extracted by dual contouring with one QEF vertex per grid
+/// with dual contouring, Ju et al. 2002): the triangles are rasterized into a grid of voxels
+/// (stored sparsely: only 8×8×8 bricks near the surface hold cells, every other brick is one
+/// state byte), the occupied voxels are closed by ρ (dilated, flood-filled from outside, eroded
+/// back), and the boundary of the solid is extracted by dual contouring with one QEF vertex per grid
 /// corner, so the result is a closed, manifold, outward-oriented mesh whatever the input was
 /// (self-intersections, overlapping components, gaps and holes narrower than 2ρ are resolved).
 #include <meshsmith/core/progress.h>
@@ -19,12 +20,16 @@ struct VolumetricOptions {
   double epsilon = 0.0;   ///< > 0: the voxels' diagonal (edge epsilon/√3)
   double rho = 0.0;       ///< >= 0: closing radius (gaps and holes up to about 2ρ wide are closed)
   int smoothing = 3;      ///< rounds of feature-aware smoothing (0: none)
-  std::int64_t max_cells = std::int64_t(1) << 25;  ///< memory cap: InputError beyond it (~10 bytes a cell)
+  std::int64_t max_cells = std::int64_t(1) << 25;  ///< memory cap on the cells stored (sparse: cells of the
+                                                  ///< bricks near the surface, and the bricks; dense: all)
+  bool dense = false;     ///< true: the whole dense voxel grid (~10 bytes a cell of the bounding box)
 };
 
 /// What volumetric_repair did.
 struct VolumetricReport {
-  std::array<std::int64_t, 3> shape{0, 0, 0};  ///< voxels per axis
+  std::array<std::int64_t, 3> shape{0, 0, 0};  ///< voxels per axis (of the whole grid, stored or not)
+  double dense_cells = 0.0;        ///< shape's product: the cells a dense grid has
+  std::int64_t stored_cells = 0;   ///< cells stored (sparse: 512 per brick near the surface; dense: all)
   double cell_size = 0.0;          ///< voxel edge
   std::int64_t occupied_cells = 0; ///< voxels a triangle overlaps
   std::int64_t inside_cells = 0;   ///< voxels of the solid after closing and the manifold fix
@@ -43,30 +48,45 @@ struct VolumetricResult {
 };
 
 /// Volumetric repair of a triangle soup. Steps: (1) voxels of edge h = ε/√3 over the bounding box
-/// padded by ρ + 2h; a voxel is occupied when a triangle overlaps it (separating-axis test of
-/// Akenine-Möller, in doubles with a tolerance of 1e-9·h on the side of overlap, so it never misses
-/// a touching triangle). (2) Closing by ρ with exact Euclidean distance transforms (Felzenszwalb &
-/// Huttenlocher): voxels within ρ of an occupied one are filled, the outside is flood-filled
-/// (6-connected) from the grid's corner, every voxel it does not reach is inside, then the outside
-/// grows back by ρ; occupied voxels always stay inside. (3) The solid is made well-composed (no two
-/// voxels meeting only along an edge or at a corner without a common face neighbour, in the solid
-/// or in its complement) by adding voxels until none of those configurations is left; the voxel
-/// boundary of a well-composed set is a 2-manifold, so the dual-contouring mesh, which has its
-/// combinatorics (one vertex per boundary grid corner, one quad per boundary voxel face), is closed
-/// and manifold by construction (the project's answer to DC's non-manifold cells). (4) Each vertex
-/// minimizes the QEF of the planes of the input triangles nearest to the centres of its boundary
-/// faces (pseudo-inverse truncated at 2% of the largest eigenvalue, about the mass point), clamped
-/// to its cell (the 8 voxels around the corner, corner ± h: occupied voxels count as inside, so the
-/// input surface may lie anywhere in them), so sharp edges and corners survive; vertices without input
-/// surface within 1.5h stay at the corner. (5) Smoothing moves each vertex towards the mean of its
-/// neighbours only along the null space of its QEF (flat vertices glide in their plane, edge
-/// vertices along the edge, corners stay), clamped to the cell. (6) Quads are split along the
-/// shorter diagonal; faces found intersecting (repair::self_intersections) have their vertices
-/// moved towards their corners until none is left (the all-corner voxel surface is embedded).
-/// V: #V×3, F: #F×3 (validate_mesh). Memory about 10 bytes a voxel; time O(voxels + output).
+/// padded by ρ + 2h + 8h (the same lattice for both grids); a voxel is occupied when a triangle
+/// overlaps it (separating-axis test of Akenine-Möller made conservative in floating point: the box is
+/// enlarged by a bound on the rounding error of every projection, so no voxel a triangle touches is
+/// missed), found by recursive octant subdivision of the triangle's bounding cube (cost ∝ its area in
+/// cells). (2) Closing by ρ: voxels whose centres lie within ρ of an occupied one's are filled, the
+/// outside is flood-filled (6-connected) from the grid's corner, every voxel it does not reach is
+/// inside, then the outside grows back by ρ; occupied voxels always stay inside. Sparse (default):
+/// dilation and erosion are balls of radius ρ stamped around the rim cells of the occupied set and of
+/// the outside (the nearest cell of a set is on its rim), the flood fill visits a uniform brick as one
+/// node, and only bricks the stamps or the flood's walls touch store cells, so memory and time follow
+/// the surface's area in cells (× ρ/h), plus one byte and one int32 per brick of the bounding box
+/// (1/512 of the dense grid). Dense: exact Euclidean distance transforms (Felzenszwalb & Huttenlocher)
+/// over every voxel; the same solid. Why bricks and not an adaptive octree: the output has one vertex
+/// per boundary corner of the finest cells either way (this extraction does not merge flat regions into
+/// coarse cells), so an octree would only change how the empty and the enclosed space is stored, which
+/// the coarse brick array already makes 512× smaller; the bricks keep the dense grid's neighbour
+/// arithmetic, its well-composedness fix and so its manifold guarantee unchanged (no cracks between
+/// cells of different size to handle). (3) The solid is made well-composed (no two voxels meeting only
+/// along an edge or at a corner without a common face neighbour, in the solid or in its complement) by
+/// adding voxels until none of those configurations is left; the voxel boundary of a well-composed set
+/// is a 2-manifold, so the dual-contouring mesh, which has its combinatorics (one vertex per boundary
+/// grid corner, one quad per boundary voxel face), is closed and manifold by construction (the
+/// project's answer to DC's non-manifold cells). (4) Each vertex minimizes the QEF of the planes of the
+/// input triangles nearest to the centres of its boundary faces (pseudo-inverse truncated at 2% of the
+/// largest eigenvalue, about the mass point), clamped to its cell (the 8 voxels around the corner,
+/// corner ± h: occupied voxels count as inside, so the input surface may lie anywhere in them), so
+/// sharp edges and corners survive; vertices without input surface within 1.5h stay at the corner. (5)
+/// Smoothing moves each vertex towards the mean of its neighbours only along the null space of its QEF
+/// (flat vertices glide in their plane, edge vertices along the edge, corners stay), clamped to the
+/// cell. (6) Quads are split along the shorter diagonal; faces found intersecting
+/// (repair::self_intersections) have their vertices moved towards their corners until none is left (the
+/// all-corner voxel surface is embedded); the first check covers every face, later ones only the faces
+/// near the vertices just moved.
+/// V: #V×3, F: #F×3 (validate_mesh). Memory: sparse, 512 bytes a stored brick + 5 bytes a brick
+/// of the box + ~250 bytes an output vertex; dense, about 10 bytes a voxel.
 /// \throw InputError if validate_mesh fails, epsilon is not finite and > 0, rho is not finite and
-///        >= 0, smoothing < 0, or the grid would have more than max_cells voxels (the message gives
-///        the count). \throw Cancelled from progress.
+///        >= 0, smoothing < 0, more than 2,097,150 voxels along an axis, or more than max_cells
+///        cells stored (dense: the grid's voxels; sparse: the bricks' cells, or bricks; the message
+///        gives the count). \throw Cancelled from progress.
 VolumetricResult volumetric_repair(const VertexRef& V, const FaceRef& F, const VolumetricOptions& options,
                                    const Progress& progress = {});
 
