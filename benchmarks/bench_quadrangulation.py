@@ -23,6 +23,12 @@ on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count w
 target (MIQ sets the grid size from the area, so the count follows the map's scale); no MIQ flip
 left, the extraction complete and every quad convex (minimum scaled Jacobian > 0).
 
+fandisk.obj again with sharp_angle=40 (MIQ holds its feature edges on integer iso-lines) at 3,000
+quads, the peers as above: the same figures plus the fraction of the feature length on integer
+iso-lines and of the feature-edge midpoints within 1e-6 / 0.01 quad edges of a quad edge (also for
+the peers). Checks: pure quads, no MIQ flip left, complete, convex; ≥ 95% of the feature length on
+integer iso-lines.
+
 Dual-loop layouts (§5.3, `dual_loop_layout`, no peer on PyPI): the torus (48×16) and spot's smooth
 cross field (computed once, outside the timing), default spacing; printed: loops, crossings
 (= coarse quads), regions (= layout vertices), regions left with several singularities, whether
@@ -85,6 +91,24 @@ def describe(V, Q, euler, input_mesh):
                 valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
 
 
+def side_by_side(bench, im, qf, V, F, target, euler, options):
+    """Times quadrangulate(V, F, target_faces=target, **options) and the peers at the same target,
+    prints the report and describe()'s figures per tool; returns meshsmith's result and the figures."""
+    bench.time("meshsmith", lambda: quadrangulate(V, F, target_faces=target, **options))
+    if im:
+        bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
+    if qf:
+        bench.time("QuadriFlow", lambda: quadriflow(qf, V, F, target))
+    bench.report()
+    result = bench.output("meshsmith")
+    figures = {"meshsmith": describe(result.V, result.Q, euler, (V, F))}
+    for peer in ("Instant Meshes", "QuadriFlow"):
+        if peer in bench.outputs:
+            figures[peer] = describe(*bench.output(peer), euler, (V, F))
+    print_figures(figures, euler)
+    return result, figures
+
+
 def print_figures(figures, euler):
     """One row of describe()'s figures per tool."""
     print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
@@ -107,18 +131,7 @@ def main():
         euler = topology.euler_characteristic(F)
         case = f"quadrangulate {name} ({len(F):,} F) to {target:,} quads"
         bench = Benchmark("quadrangulation", case, repeats=1 if len(F) > 50000 else 3)
-        bench.time("meshsmith", lambda: quadrangulate(V, F, target_faces=target))
-        if im:
-            bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
-        if qf:
-            bench.time("QuadriFlow", lambda: quadriflow(qf, V, F, target))
-        bench.report()
-        result = bench.output("meshsmith")
-        figures = {"meshsmith": describe(result.V, result.Q, euler, (V, F))}
-        for peer in ("Instant Meshes", "QuadriFlow"):
-            if peer in bench.outputs:
-                figures[peer] = describe(*bench.output(peer), euler, (V, F))
-        print_figures(figures, euler)
+        result, figures = side_by_side(bench, im, qf, V, F, target, euler, {})
         report = result.report
         print(f"  meshsmith: {len(report.singular_vertices)} singularities (index sum {int(report.singular_indices.sum())}), "
               f"MIQ flips {report.flipped_before} → {report.flipped_after} (merge distance "
@@ -135,7 +148,66 @@ def main():
         if name == "torus":
             bench.check("torus: irregular vertices + (χ ≠ 0)",
                         figures["meshsmith"]["irregular"] + (not report.extraction.complete), 0)
+    feature_cases(im, qf)
     spectral_cases(im, cases[:1])
+
+
+def feature_fractions(V, F, UV, Vq, Q, length, sharp_angle):
+    """Of the edges whose dihedral angle exceeds sharp_angle: the fraction of their length on an
+    integer iso-line of UV (both ends' same coordinate equal and an integer to 1e-6 on some side:
+    a line of quad edges), and the fraction of their midpoints within 1e-6 and within 0.01 quad
+    edges (`length`) of a quad edge of (Vq, Q) in 3D (quad edges are chords of curved features)."""
+    field = cross_field(V, F, sharp_angle=sharp_angle)
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    ef = field.edge_faces
+    sharp = (ef[:, 1] >= 0) & (np.einsum("ij,ij->i", n[ef[:, 0]], n[ef[:, 1]]) < np.cos(np.radians(sharp_angle)))
+    edges = field.edges[sharp]
+    on_line = np.zeros(len(edges), dtype=bool)
+    for k, ((i, j), faces) in enumerate(zip(edges, ef[sharp])):
+        for f in faces:
+            a, b = UV[f, list(F[f]).index(i)], UV[f, list(F[f]).index(j)]
+            on_line[k] |= bool(np.any((np.abs(a - b) < 1e-6) & (np.abs(a - np.round(a)) < 1e-6)))
+    lengths = np.linalg.norm(V[edges[:, 1]] - V[edges[:, 0]], axis=1)
+    quad_edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
+    A, B = Vq[quad_edges[:, 0]], Vq[quad_edges[:, 1]]
+    points = (V[edges[:, 0]] + V[edges[:, 1]]) / 2
+    t = np.clip(np.einsum("kij,ij->ki", points[:, None] - A, B - A) / ((B - A) ** 2).sum(1), 0, 1)
+    distance = np.linalg.norm(A + t[..., None] * (B - A) - points[:, None], axis=2).min(axis=1)
+    return (float(lengths[on_line].sum() / lengths.sum()), float((distance < 1e-6).mean()),
+            float((distance < 0.01 * length).mean()), len(edges))
+
+
+def feature_cases(im, qf):
+    """fandisk.obj with sharp_angle=40 (its feature edges held on integer iso-lines by MIQ) at
+    3,000 quads against the peers (asked for the same count; neither has feature constraints):
+    the figures above plus the fractions of feature_fractions. Checks: pure quads, no MIQ flip
+    left, complete, every quad convex; ≥ 95% of the feature length on integer iso-lines."""
+    mesh = shared_mesh("fandisk.obj")
+    if mesh is None:
+        return
+    V, F = np.asarray(mesh[0], dtype=np.float64), np.asarray(mesh[1], dtype=np.int64)
+    target, euler = 3000, topology.euler_characteristic(F)
+    bench = Benchmark("quadrangulation", f"quadrangulate fandisk.obj ({len(F):,} F) to {target:,} quads, sharp_angle=40",
+                      repeats=3)
+    result, figures = side_by_side(bench, im, qf, V, F, target, euler, dict(sharp_angle=40))
+    report = result.report
+    on_line, exact, near, count = feature_fractions(V, F, result.UV, result.V, result.Q, report.target_edge_length, 40)
+    print(f"  meshsmith: {report.feature_edges} of {count} feature edges held by MIQ, {on_line:.1%} of the feature "
+          f"length on integer iso-lines; feature-edge midpoints within 1e-6 of a quad edge {exact:.1%}, within 0.01 "
+          f"quad edges {near:.1%}; MIQ flips {report.flipped_before} → {report.flipped_after}, "
+          f"{report.miq_attempts} MIQ solve(s), complete: {report.extraction.complete}")
+    for peer in ("Instant Meshes", "QuadriFlow"):
+        if peer in bench.outputs:
+            Vp, Qp = bench.output(peer)
+            _, exact_p, near_p, _ = feature_fractions(V, F, np.zeros((len(F), 3, 2)) + 0.5, Vp, Qp,
+                                                      report.target_edge_length, 40)
+            print(f"  {peer}: feature-edge midpoints within 1e-6 of a quad edge {exact_p:.1%}, within 0.01 quad edges "
+                  f"{near_p:.1%}")
+    bench.check("fandisk features: non-quads + MIQ flips left + (not complete) + (min scaled Jacobian <= 0)",
+                figures["meshsmith"]["non_quads"] + report.flipped_after + (not report.extraction.complete)
+                + (not report.min_scaled_jacobian > 0), 0)
+    bench.check("fandisk features: 0.95 − feature length fraction on integer iso-lines (≤ 0)", max(0.0, 0.95 - on_line), 0)
 
 
 def spectral_cases(im, cases):

@@ -124,6 +124,10 @@ void bind_quadrangulation(py::module_& m) {
     out["rounding_residual"] = result.rounding_residual;
     out["repair_rounds"] = result.repair_rounds;
     out["feature_edges"] = result.feature_edges;
+    out["separations"] = result.separations;
+    out["separation_conflicts"] = result.separation_conflicts;
+    out["released_feature_edges"] = result.released_feature_edges;
+    out["release_rounds"] = result.release_rounds;
     out["cut"] = cut_dict(std::move(result.cut));
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("target_edge_length") = 0.0,

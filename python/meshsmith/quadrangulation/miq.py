@@ -30,7 +30,15 @@ class MiqResult(Unpackable):
     integer_variables: seam translations and singular coordinates rounded; rounding_residual:
     the largest distance to an integer a variable had when it was rounded; repair_rounds:
     stiffening rounds run; target_edge_length: the quad edge length used, in input units;
-    feature_edges: feature edges (``sharp_angle``) held on an integer iso-line.
+    feature_edges: feature edges (``sharp_angle``) held on an integer iso-line; separations:
+    pairs of integer corners (feature-line corners, cones) of one coordinate within a quad edge of
+    each other on different iso-lines, which the rounding keeps on distinct integers in their
+    order; separation_conflicts: roundings where none of the four nearest integers kept every
+    separation (the nearest was taken); released_feature_edges: feature edges left free because
+    the map folded with them held (where flips remain, the feature edges within one quad edge of
+    them are released and the map solved again, kept when it has fewer flips, else the radius
+    grows by half a quad edge; at most six re-solves); release_rounds: the re-solve the result
+    came from (0: every feature as asked).
     """
 
     unpacks = ("UV", "flipped_before", "flipped_after")
@@ -43,6 +51,10 @@ class MiqResult(Unpackable):
     repair_rounds: int
     target_edge_length: float
     feature_edges: int
+    separations: int
+    separation_conflicts: int
+    released_feature_edges: int
+    release_rounds: int
 
 
 @_arguments.real_options
@@ -64,7 +76,10 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
     (as in :func:`cross_field`, whose field should follow them: pass it the same sharp_angle);
     where the combed cross follows a feature edge to within 10°, the coordinate across it is
     constant along it and an integer on both sides (MIQ's feature iso-lines), so the feature
-    becomes a chain of quad edges.
+    becomes a chain of quad edges. Feature lines and cones less than a quad edge apart are
+    rounded onto distinct iso-lines (in their order), and where triangles stay flipped the
+    feature edges near them are released and the map solved again (``released_feature_edges``;
+    fandisk at 3,000 quads: 0 flips, 675 of its 710 feature edges held, 95% of their length).
 
     V: (n, 3) float array, F: (m, 3) integer array; field: a :class:`CrossField`, (m,) angles or
     (m, 3) directions. target_edge_length (input units) or target_quads (≈ surface area /
@@ -91,7 +106,9 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
     return MiqResult(UV=out["uv"], flipped_before=int(out["flipped_before"]), flipped_after=int(out["flipped_after"]),
                      cut=field_cut(out["cut"], mesh, V), integer_variables=int(out["integer_variables"]),
                      rounding_residual=float(out["rounding_residual"]), repair_rounds=int(out["repair_rounds"]),
-                     target_edge_length=length, feature_edges=int(out["feature_edges"]))
+                     target_edge_length=length, feature_edges=int(out["feature_edges"]),
+                     separations=int(out["separations"]), separation_conflicts=int(out["separation_conflicts"]),
+                     released_feature_edges=int(out["released_feature_edges"]), release_rounds=int(out["release_rounds"]))
 
 
 def grid_length(V: ArrayLike, F: ArrayLike, target_edge_length: float | None, target_quads: int | None,

@@ -37,6 +37,10 @@ struct MiqResult {
   double rounding_residual = 0.0;     ///< max |y − round(y)| over the integer variables when each was rounded
   int repair_rounds = 0;              ///< stiffening rounds run
   Eigen::Index feature_edges = 0;     ///< feature edges held on an integer iso-line (sharp_angle_degrees)
+  Eigen::Index separations = 0;       ///< pairs of feature-line / cone corners kept on distinct iso-lines by the rounding
+  Eigen::Index separation_conflicts = 0;  ///< roundings where no nearby integer kept every separation (the nearest taken)
+  Eigen::Index released_feature_edges = 0;  ///< feature edges left free because the map folded with them held
+  int release_rounds = 0;                   ///< re-solves with feature edges near the flips released
 };
 
 /// A seamless integer-grid map of (V, F) following the cross field `theta` (#F angles, as
@@ -50,6 +54,11 @@ struct MiqResult {
 /// each rounding updating all unrounded ones exactly through the integer block of the inverse
 /// (no refactorization per rounding). Triangles whose map is flipped or degenerate are
 /// stiffened (w_f ×= stiffening, neighbours too) and the map re-solved with the integers kept.
+/// With sharp_angle_degrees > 0 the feature edges the combed cross follows are held on integer
+/// iso-lines; integer corners (feature-line corners, cones) within a quad edge of each other on
+/// different iso-lines are rounded onto distinct integers in their order, and where flips remain
+/// the feature edges near them are released and the map solved again (up to six times, kept
+/// when it has fewer flips; MiqResult::released_feature_edges counts them).
 /// V: #V×3, F: #F×3. Result: per-corner (u, v); across every seam edge the two sides agree up to
 /// a rotation by k·π/2 and an integer translation; singular vertices sit on integer points.
 /// \pre a clean, connected, oriented 2-manifold.
