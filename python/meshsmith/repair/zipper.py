@@ -16,7 +16,7 @@ from ..geometry import SurfaceDistance
 from ..points import KdTree
 from .clean import clean
 from .holes import fill_holes
-from .intersections import remove_self_intersections
+from .intersections import remove_self_intersections, self_intersections
 from .stitching import boundary_sides, stitch_boundaries
 from .unreferenced import remove_unreferenced
 
@@ -239,6 +239,13 @@ def _clip_to_loops(VB: FloatArray, FB: IndexArray, face_map: IndexArray, VA: Flo
     return VB, FB, face_map, inserted
 
 
+#: Rounds of cutting out and refilling the seam's crossing faces (each one ring wider).
+SEAM_ROUNDS = 2
+#: The most crossing pairs the seam may have made for them to be untangled: more is not a seam's
+#: few slivers but two scans that disagree along it (raw range scans: thousands), left as stitched.
+SEAM_MAX_PAIRS = 1000
+
+
 def _fillable(F: IndexArray) -> bool:
     """Whether :func:`fill_holes` takes F: edge-manifold and consistently oriented (where two
     raw scans' seam crossed itself it may be neither; the seam is then left as stitched)."""
@@ -258,7 +265,17 @@ def _untangle_seam(V: FloatArray, F: IndexArray, source: IndexArray, rows: Index
     original = VA[FA[rows[from_a]]]                                               # (k, 3, 3)
     same = (V[F[from_a]][:, :, None, :] == original[:, None, :, :]).all(axis=3).any(axis=2).all(axis=1)
     removable[from_a[~same]] = True
-    V2, F2, removal = remove_self_intersections(V, F, faces=removable)
+    pairs = self_intersections(V, F)
+    made = int(removable[pairs].any(axis=1).sum()) if len(pairs) else 0
+    if not made or made > SEAM_MAX_PAIRS:
+        return V, F, source, rows, 0
+    try:
+        V2, F2, removal = remove_self_intersections(V, F, faces=removable, max_rounds=SEAM_ROUNDS, refine=False,
+                                                     fair=False)
+    except InputError:
+        # A round's fill met a non-manifold edge (raw scans whose seam crosses itself in many
+        # places): the seam is left as stitched, its pairs for self_intersections to find.
+        return V, F, source, rows, 0
     if not removal.initial_pairs:
         return V, F, source, rows, 0
     origin = removal.face_origin
@@ -292,8 +309,13 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
     4. Untangling: where the seam left faces crossing each other (a sliver of B folded over A's
        rim faces, nearly coplanar with them), :func:`remove_self_intersections` cuts out and
        refills the seam's faces of every such pair — faces of B, the gaps' patches, A's faces
-       split at the seam — never A's own faces, so pairs that were in A are left as they were.
-       It runs where the stitched mesh is manifold and oriented (else the seam is left as is).
+       split at the seam — never A's own faces, so pairs that were in A are left as they were
+       (at most SEAM_ROUNDS = 2 rounds, each hole closed by Liepa's triangulation of its loop
+       alone, no vertex added; what is left is for :func:`self_intersections` to find). More
+       than SEAM_MAX_PAIRS = 1000 such pairs are not untangled (two scans disagreeing all along
+       the seam, not a few slivers).
+       It runs where the stitched mesh is manifold and oriented, and the seam is left as
+       stitched where it fails (a fill meeting a non-manifold edge: two raw range scans).
     A's triangles are all kept (those along its rim split at B's vertices, and such a split face
     refilled where it crossed B); where the two scans do not overlap, their boundaries stay open.
 
