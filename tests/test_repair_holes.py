@@ -3,7 +3,7 @@
 Invariants (closed, manifold, oriented, every input face and vertex kept, components kept, no
 fold-over), analytic truth on planar holes (the patch is the hole: its area, its plane), the exact
 search as the reference of the Delaunay-restricted one (its weight is never worse), the selection
-options, pinched loops and islands, and every mesh of ../shared/data cleaned and filled with the
+options, pinched loops and islands (a hole's islands joined to it by bridges, or kept apart), and every mesh of ../shared/data cleaned and filled with the
 report's counts checked.
 """
 import numpy as np
@@ -148,6 +148,58 @@ def test_island_inside_a_hole_keeps_its_own_component():
     V2, F2, report = repair.fill_holes(V, F)
     assert_filled(V, F, V2, F2, report)
     assert report.filled == 2 and topology.connected_components(F2).count == 2
+
+
+def plane_with_island(lift=0.0):
+    """A 16×16 grid with the square [0.25, 0.75]² cut out and a 4×4 grid patch (the island, facing
+    +z as the plane does, no vertex shared) floating in the middle of the hole, `lift` above it."""
+    V, F, _ = grid_with_square_hole(16, (4, 12))
+    island_V, island_F = datasets.grid(4, 4, size=(0.2, 0.2))
+    island_V = island_V + [0.4, 0.4, lift]
+    return np.vstack([V, island_V]), np.vstack([F, island_F + len(V)])
+
+
+def test_an_island_is_filled_with_its_hole_as_one_region():
+    V, F = plane_with_island()
+    loops = topology.boundary_loops(F)
+    assert [len(loop) for loop in loops] == [64, 32, 16]          # rim, hole, island
+    assert topology.connected_components(F, len(V)).count == 2
+    V2, F2, report = repair.fill_holes(V, F, keep_border=True)    # the rim kept; not the island's only loop
+    assert report.filled == 1 and report.patches[0].loop == 1 and report.patches[0].islands == (2,)
+    assert report.kept_borders.tolist() == [0]
+    assert report.counts()["islands_joined"] == 1 and "1 island loops filled" in str(report)
+    np.testing.assert_array_equal(F2[:len(F)], F)
+    assert topology.is_manifold(F2) and topology.is_oriented(F2)
+    assert topology.connected_components(F2, len(V2)).count == 1         # the island joined to the rim
+    remaining = topology.boundary_loops(F2)
+    assert len(remaining) == 1 and len(remaining[0]) == 64               # the rim, kept open
+    assert repair.self_intersections(V2, F2).shape == (0, 2)
+    # Flat, and covering exactly the annulus between the hole and the island: the unit square.
+    np.testing.assert_allclose(V2[:, 2], 0.0, atol=1e-12)
+    assert geometry.surface_area(V2, F2) == pytest.approx(1.0, rel=1e-12)
+    assert report.patches[0].max_dihedral_angle < 1e-6
+    assert 0.8 <= report.patches[0].edge_length_ratio <= 1.25
+
+
+def test_without_islands_each_loop_is_closed_on_its_own_and_the_patches_overlap():
+    V, F = plane_with_island()
+    V2, F2, report = repair.fill_holes(V, F, holes=[1, 2], islands=False)
+    assert report.filled == 2 and all(p.islands == () for p in report.patches)
+    assert topology.connected_components(F2, len(V2)).count == 2
+    assert len(repair.self_intersections(V2, F2)) > 0                    # the hole's patch covers the island
+    assert geometry.surface_area(V2, F2) == pytest.approx(1.0 + 2 * 0.2 ** 2, rel=1e-9)
+
+
+def test_a_lifted_island_is_joined_and_the_patch_bends_to_it():
+    V, F = plane_with_island(lift=0.05)
+    V2, F2, report = repair.fill_holes(V, F, holes=[1])           # the island's loop joins the hole's
+    assert report.patches[0].islands == (2,)
+    assert topology.connected_components(F2, len(V2)).count == 1 and len(topology.boundary_loops(F2)) == 1
+    assert topology.is_manifold(F2) and topology.is_oriented(F2)
+    assert repair.self_intersections(V2, F2).shape == (0, 2)
+    new = V2[len(V):]
+    assert (new[:, 2] > 0).all() and new[:, 2].max() < 0.05 + 1e-9      # between the plane and the island
+    assert report.patches[0].max_dihedral_angle < 60
 
 
 def test_selection_by_index_size_and_diameter():

@@ -90,6 +90,28 @@ def test_open_surface_keeps_its_border():
     assert report.remaining_pairs == 0 and report.filled_holes >= 1
 
 
+def test_faces_mask_resolves_only_the_pairs_it_reaches():
+    """Two poked spheres side by side: with only the first one's faces removable, its pairs are
+    resolved and the second's are left as they were, uncounted."""
+    V1, F1 = poked_sphere()
+    V = np.vstack([V1, V1 + [3.0, 0, 0]])
+    F = np.vstack([F1, F1 + len(V1)])
+    pairs = repair.self_intersections(V, F)
+    near_first = np.arange(len(F)) < len(F1)
+    assert near_first[pairs].any(axis=1).any() and (~near_first[pairs]).all(axis=1).any()
+    V2, F2, report = repair.remove_self_intersections(V, F, faces=near_first)
+    assert report.initial_pairs == int(near_first[pairs].any(axis=1).sum()) and report.remaining_pairs == 0
+    assert report.removed_faces > 0 and report.filled_holes >= 1
+    # every face outside the mask is kept, unmoved, and the second poke's pairs are still there
+    outside = np.flatnonzero(~near_first)
+    assert np.isin(outside, report.face_origin).all()
+    left = repair.self_intersections(V2, F2)
+    assert len(left) == int((~near_first[pairs]).all(axis=1).sum()) > 0
+    assert (report.face_origin[left] >= 0).all() and (~near_first[report.face_origin[left]]).all()
+    with pytest.raises(meshsmith.InputError, match="faces"):
+        repair.remove_self_intersections(V, F, faces=near_first[:-1])
+
+
 def test_unchanged_without_intersections():
     V, F = datasets.icosphere(2)
     V2, F2, report = repair.remove_self_intersections(V, F)

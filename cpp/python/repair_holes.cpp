@@ -15,7 +15,7 @@ namespace meshsmith::python {
 void bind_repair_holes(py::module_& m) {
   m.def("fill_holes", [](const py::object& V, const py::object& F, const py::object& holes, const py::object& max_hole_edges,
                          double max_hole_diameter, bool keep_border, const std::string& search, bool refine, bool fair,
-                         double density, const py::object& callback) {
+                         double density, bool islands, const py::object& callback) {
     const MeshArguments mesh(V, F);
     repair::FillHolesOptions options;
     if (!holes.is_none()) {
@@ -30,6 +30,7 @@ void bind_repair_holes(py::module_& m) {
     options.refine = refine;
     options.fair = fair;
     options.density = density;
+    options.islands = islands;
     const Progress progress = make_progress(callback);
     auto result = without_gil([&] { return repair::fill_holes(mesh.V(), mesh.F(), options, progress); });
     const auto patches = static_cast<Eigen::Index>(result.patches.size());
@@ -47,6 +48,8 @@ void bind_repair_holes(py::module_& m) {
       for (std::size_t j = 0; j < loop.size(); ++j) row[static_cast<Eigen::Index>(j)] = loop[j];
       loops.append(to_numpy(std::move(row)));
     }
+    py::list island_lists;
+    for (const auto& r : result.patches) island_lists.append(py::cast(r.islands));
     py::list unfilled;
     for (const auto& u : result.unfilled) unfilled.append(py::make_tuple(u.loop, u.reason));
     py::dict report;
@@ -54,11 +57,13 @@ void bind_repair_holes(py::module_& m) {
     report["measures"] = to_numpy(std::move(measures));
     report["loops"] = loops;
     report["unfilled"] = unfilled;
+    report["islands"] = island_lists;
     report["kept_borders"] = result.kept_borders;
     return py::make_tuple(to_numpy(std::move(result.V)), indices_to_numpy(result.F), report);
   }, py::arg("V"), py::arg("F"), py::arg("holes") = py::none(), py::arg("max_hole_edges") = 0,
      py::arg("max_hole_diameter") = 0.0, py::arg("keep_border") = false, py::arg("search") = "delaunay",
-     py::arg("refine") = true, py::arg("fair") = true, py::arg("density") = 1.4142135623730951, py::arg("progress") = py::none(),
+     py::arg("refine") = true, py::arg("fair") = true, py::arg("density") = 1.4142135623730951,
+     py::arg("islands") = true, py::arg("progress") = py::none(),
      "Liepa hole filling (§2.4.1). Returns (V, F, report); see meshsmith.repair.fill_holes.");
 }
 

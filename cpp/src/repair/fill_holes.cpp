@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -52,6 +53,15 @@ double dihedral_cosine(const Vec& n, const Vec& m) {
   return n.dot(m);
 }
 
+/// Unit Newell normal of the closed polygon through the points of `loop` (oriented by its order).
+template <typename PointOf>
+Vec newell_normal(const std::vector<int>& loop, PointOf point) {
+  Vec n = Vec::Zero();
+  for (std::size_t j = 0; j < loop.size(); ++j) n += point(loop[j]).cross(point(loop[(j + 1) % loop.size()]));
+  const double length = n.norm();
+  return length > 0.0 ? Vec(n / length) : Vec::Zero();
+}
+
 /// Liepa's weight: the largest dihedral angle (kept as its cosine: larger is better), then area.
 struct Weight {
   double cosine = 2.0;   // 2: no angle yet (a loop edge)
@@ -73,6 +83,16 @@ struct Polygon {
   std::vector<Vec> outer_normal;
   int size() const { return static_cast<int>(p.size()); }
 };
+
+/// Whether triangles (i, m, k) of the polygon use a side between two mesh vertices twice (the
+/// polygon passes a vertex twice, and chords from both copies can map to one edge).
+bool repeats_a_side(const std::vector<std::array<int, 3>>& triangles, const Polygon& polygon) {
+  std::unordered_set<std::int64_t> sides;
+  for (const auto& t : triangles)
+    for (int s = 0; s < 3; ++s)
+      if (!sides.insert(side_key(polygon.vertex[t[s]], polygon.vertex[t[(s + 1) % 3]])).second) return true;
+  return false;
+}
 
 /// Chords (i, k) that a patch may not use: an edge the mesh already has, or both ends on one vertex.
 struct ChordRule {
@@ -172,8 +192,26 @@ std::vector<std::array<int, 3>> triangulate_exact(const Polygon& polygon, const 
 /// triangulation is degenerate (hole_delaunay.h).
 std::vector<std::array<int, 3>> delaunay_search_space(const Polygon& polygon) {
   const int n = polygon.size();
-  auto edges = detail::delaunay_loop_edges(polygon.p);
-  if (edges.empty()) return {};
+  // A vertex the loop passes twice (a pinched vertex, the ends of an island's bridge) is one
+  // Delaunay site; its edges go to each of its loop positions.
+  std::unordered_map<int, int> site_of;
+  std::vector<Vec> sites;
+  std::vector<std::vector<int>> positions;
+  for (int i = 0; i < n; ++i) {
+    const auto [it, inserted] = site_of.emplace(polygon.vertex[i], static_cast<int>(sites.size()));
+    if (inserted) {
+      sites.push_back(polygon.p[i]);
+      positions.emplace_back();
+    }
+    positions[it->second].push_back(i);
+  }
+  const auto site_edges = detail::delaunay_loop_edges(sites);
+  if (site_edges.empty()) return {};
+  std::vector<std::array<int, 2>> edges;
+  edges.reserve(site_edges.size() + n);
+  for (const auto& [s, t] : site_edges)
+    for (const int i : positions[s])
+      for (const int k : positions[t]) edges.push_back({std::min(i, k), std::max(i, k)});
   for (int i = 0; i < n; ++i) edges.push_back({std::min(i, (i + 1) % n), std::max(i, (i + 1) % n)});
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
@@ -515,10 +553,73 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
     std::sort(result.kept_borders.begin(), result.kept_borders.end());
   }
 
+  // Islands: each loop inside a chosen loop of another component (FillHolesOptions::islands' test)
+  // joins the smallest such loop; it is then not filled on its own, nor kept as a border.
+  std::vector<std::vector<int>> islands_of(loop_count);
+  if (options.islands && loop_count > 1) {
+    const auto components = topology::connected_components(F, V.rows());
+    std::vector<Vec> newell(loop_count, Vec::Zero()), centre(loop_count, Vec::Zero());
+    for (int l = 0; l < loop_count; ++l) {
+      const auto& loop = result.loops[l];
+      for (const int v : loop) centre[l] += point(v);
+      centre[l] /= static_cast<double>(loop.size());
+      for (std::size_t j = 0; j < loop.size(); ++j)
+        newell[l] += (point(loop[j]) - centre[l]).cross(point(loop[(j + 1) % loop.size()]) - centre[l]);
+    }
+    // A component's extent (its bounding box's diagonal): an island's loop must span its
+    // component (a patch bounded by it), not be a small hole in a larger or closed surface.
+    std::vector<Eigen::AlignedBox3d> extent(components.count);
+    for (Eigen::Index v = 0; v < V.rows(); ++v)
+      if (components.vertex_labels[v] >= 0) extent[components.vertex_labels[v]].extend(point(static_cast<int>(v)));
+    std::vector<int> host(loop_count, -1);
+    for (int i = 0; i < loop_count; ++i) {
+      Eigen::AlignedBox3d span;
+      for (const int v : result.loops[i]) span.extend(point(v));
+      if (extent[components.vertex_labels[result.loops[i][0]]].diagonal().norm() > 1.5 * span.diagonal().norm())
+        continue;
+      for (int l = 0; l < loop_count; ++l) {
+        if (l == i || !chosen[l] || perimeter[i] >= perimeter[l]) continue;
+        if (components.vertex_labels[result.loops[i][0]] == components.vertex_labels[result.loops[l][0]]) continue;
+        const double area = 0.5 * newell[l].norm();
+        if (!(area > 0.0) || newell[l].dot(newell[i]) >= 0.0) continue;
+        const Vec normal = newell[l].normalized();
+        const Vec u = normal.unitOrthogonal(), w = normal.cross(u);
+        auto plane = [&](int v) {
+          const Vec d = point(v) - centre[l];
+          return std::array<double, 3>{d.dot(u), d.dot(w), d.dot(normal)};
+        };
+        const auto& outer = result.loops[l];
+        std::vector<std::array<double, 3>> ring;
+        for (const int v : outer) ring.push_back(plane(v));
+        bool inside = true;
+        for (const int v : result.loops[i]) {
+          const auto q = plane(v);
+          if (std::abs(q[2]) > 0.5 * std::sqrt(area)) { inside = false; break; }
+          bool odd = false;        // crossing number in the plane
+          for (std::size_t j = 0, k = ring.size() - 1; j < ring.size(); k = j++)
+            if ((ring[j][1] > q[1]) != (ring[k][1] > q[1]) &&
+                q[0] < ring[k][0] + (ring[j][0] - ring[k][0]) * (q[1] - ring[k][1]) / (ring[j][1] - ring[k][1]))
+              odd = !odd;
+          if (!odd) { inside = false; break; }
+        }
+        if (inside && (host[i] < 0 || perimeter[l] < perimeter[host[i]])) host[i] = l;
+      }
+    }
+    for (int i = 0; i < loop_count; ++i)
+      if (host[i] >= 0 && host[host[i]] < 0) {   // an island's own islands stay separate
+        islands_of[host[i]].push_back(i);
+        chosen[i] = 0;
+        // keep_border keeps an island's only loop as its border: joined to the hole, it is none.
+        result.kept_borders.erase(std::remove(result.kept_borders.begin(), result.kept_borders.end(), i),
+                                  result.kept_borders.end());
+      }
+  }
+
   // Fill.
   std::vector<int> face_offsets, vertex_faces;   // built by the first patch that is faired
   std::vector<Vec> new_points;
   std::vector<std::array<int, 3>> new_faces;
+  std::vector<std::vector<int>> patch_loops;     // each patch's loop, its islands spliced in
   const int n_input = static_cast<int>(V.rows());
   int filled_count = 0, to_fill = 0;
   for (int l = 0; l < loop_count; ++l) to_fill += chosen[l];
@@ -528,16 +629,40 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
                                             static_cast<double>(filled_count + 1) / to_fill);
     ++filled_count;
     step.report(0.0, "filling holes");
-    const auto& loop = result.loops[l];
+    // The loop, with each island spliced in at the shortest bridge from what is joined so far:
+    // ..., a, island from b round to b, a, ... (the bridge a–b is then an inner edge of the patch).
+    std::vector<int> loop = result.loops[l];
+    std::unordered_set<std::int64_t> bridges;
+    for (const int i : islands_of[l]) {
+      const auto& island = result.loops[i];
+      double shortest = std::numeric_limits<double>::infinity();
+      std::size_t at = 0, from = 0;
+      for (std::size_t j = 0; j < loop.size(); ++j)
+        for (std::size_t k = 0; k < island.size(); ++k) {
+          const double d = (point(loop[j]) - point(island[k])).squaredNorm();
+          if (d < shortest && !edges.count(edge_key(loop[j], island[k]))) { shortest = d; at = j; from = k; }
+        }
+      std::vector<int> joined(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(at) + 1);
+      for (std::size_t k = 0; k <= island.size(); ++k) joined.push_back(island[(from + k) % island.size()]);
+      joined.insert(joined.end(), loop.begin() + static_cast<std::ptrdiff_t>(at), loop.end());
+      bridges.insert(edge_key(loop[at], island[from]));
+      edges.insert(edge_key(loop[at], island[from]));   // no chord may take the bridge again
+      loop = std::move(joined);
+    }
+    const Vec plane_normal = newell_normal(loop, point);
     const int n = static_cast<int>(loop.size());
     Polygon polygon;
     bool closed = n >= 3;
     for (int j = 0; j < n && closed; ++j) {
       const int a = loop[j], b = loop[(j + 1) % n];
-      const auto side = boundary_side.find(side_key(a, b));
-      if (side == boundary_side.end()) { closed = false; break; }
       polygon.p.push_back(point(a));
       polygon.vertex.push_back(a);
+      if (bridges.count(edge_key(a, b))) {   // no face on a bridge: the joined polygon's plane
+        polygon.outer_normal.push_back(plane_normal);
+        continue;
+      }
+      const auto side = boundary_side.find(side_key(a, b));
+      if (side == boundary_side.end()) { closed = false; break; }
       // The mesh face on a → b, reversed, is oriented like the patch's triangles (i, m, k).
       polygon.outer_normal.push_back(unit_normal(point(b), point(a), point(side->second)));
     }
@@ -562,6 +687,17 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
         continue;
       }
       triangles = triangulate_exact(polygon, rule, step.subrange(0.0, 0.8));
+    }
+    if (!islands_of[l].empty() && (triangles.empty() || repeats_a_side(triangles, polygon))) {
+      // The joined polygon's triangulation used an edge twice (through the two copies of a
+      // bridge's end): fill the loop and its islands each on its own instead.
+      for (const int i : islands_of[l]) chosen[i] = 1;
+      to_fill += static_cast<int>(islands_of[l].size());
+      islands_of[l].clear();
+      for (const auto key : bridges) edges.erase(key);
+      --filled_count;
+      --l;
+      continue;
     }
     if (triangles.empty()) {
       result.unfilled.push_back({l, "every triangulation of the loop repeats a vertex in a face or adds an edge"
@@ -615,9 +751,16 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
       const std::vector<std::array<int, 3>> patch_faces(new_faces.end() - record.faces, new_faces.end());
       fair_patch(W, new_points, record.vertex_begin, record.vertices, patch_faces, loop, F, face_offsets, vertex_faces);
     }
+    record.islands = islands_of[l];
     result.patches.push_back(record);
+    patch_loops.push_back(std::move(loop));
     step.report(1.0, "filling holes");
   }
+
+  for (std::size_t u = 0, count = result.unfilled.size(); u < count; ++u)
+    for (const int i : islands_of[result.unfilled[u].loop])
+      result.unfilled.push_back({i, "an island of loop " + std::to_string(result.unfilled[u].loop) + ", which was left open"});
+  std::sort(result.unfilled.begin(), result.unfilled.end(), [](const auto& a, const auto& b) { return a.loop < b.loop; });
 
   VertexMatrix added(static_cast<Eigen::Index>(new_points.size()), 3);
   for (std::size_t j = 0; j < new_points.size(); ++j) added.row(static_cast<Eigen::Index>(j)) = new_points[j].transpose();
@@ -638,8 +781,8 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
     VertexMatrix X(V.rows() + added.rows(), 3);
     X.topRows(V.rows()) = W;
     if (added.rows()) X.bottomRows(added.rows()) = added;
-    for (auto& patch : result.patches)
-      measure_patch(patch, result.loops[patch.loop], X, F, new_faces, boundary_side, incidence, offsets, vertex_edges);
+    for (std::size_t p = 0; p < result.patches.size(); ++p)
+      measure_patch(result.patches[p], patch_loops[p], X, F, new_faces, boundary_side, incidence, offsets, vertex_edges);
   }
   result.V.resize(V.rows() + added.rows(), 3);
   result.V.topRows(V.rows()) = V;

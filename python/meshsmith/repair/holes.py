@@ -30,7 +30,9 @@ class HolePatch(Unpackable):
     edge of the patch (its inner edges and the loop's edges, where the patch meets the mesh: 0 is
     flat, near 180 a fold-over); edge_length_ratio: the mean length of the patch's inner edges
     over the mean length of the mesh edges at the loop's vertices (its surrounding ring; the
-    refinement aims at 1; with no inner edge, the patch's loop edges are used).
+    refinement aims at 1; with no inner edge, the patch's loop edges are used); islands: the loops
+    of islands filled with it as one region (joined to its loop by bridge edges; ``islands=True``
+    of :func:`fill_holes`), ascending, empty for a loop filled on its own.
     """
 
     loop: int
@@ -40,6 +42,7 @@ class HolePatch(Unpackable):
     search: str
     max_dihedral_angle: float
     edge_length_ratio: float
+    islands: tuple[int, ...] = ()
 
     unpacks = ("loop", "faces", "vertices")
 
@@ -70,9 +73,11 @@ class FillHolesReport(Unpackable):
         return len(self.patches)
 
     def counts(self) -> dict[str, int]:
-        """The counts (JSON-ready): loops, filled, unfilled, kept_borders, faces_added, vertices_added,
+        """The counts (JSON-ready): loops, filled, unfilled, islands_joined (island loops closed with
+        the hole around them, not counted in filled), kept_borders, faces_added, vertices_added,
         reoriented_components."""
         return {"loops": len(self.loops), "filled": self.filled, "unfilled": len(self.unfilled),
+                "islands_joined": int(sum(len(p.islands) for p in self.patches)),
                 "kept_borders": len(self.kept_borders),
                 "faces_added": int(sum(len(p.faces) for p in self.patches)),
                 "vertices_added": int(sum(len(p.vertices) for p in self.patches)),
@@ -83,6 +88,8 @@ class FillHolesReport(Unpackable):
         counts = self.counts()
         lines = [f"{counts['filled']:,} of {counts['loops']:,} holes filled "
                  f"({counts['faces_added']:,} faces, {counts['vertices_added']:,} vertices added)"]
+        if counts["islands_joined"]:
+            lines.append(f"{counts['islands_joined']:,} island loops filled with the hole around them")
         if self.patches:
             worst = max(p.max_dihedral_angle for p in self.patches)
             ratios = [p.edge_length_ratio for p in self.patches]
@@ -112,7 +119,7 @@ class FilledMesh(NamedTuple):
 def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, max_hole_edges: int | None = None,
                max_hole_diameter: float | None = None, keep_border: bool = False, search: str = "delaunay",
                refine: bool = True, fair: bool = True, density: float = float(np.sqrt(2.0)),
-               progress: ProgressCallback = None) -> FilledMesh:
+               islands: bool = True, progress: ProgressCallback = None) -> FilledMesh:
     """Close the holes of a triangle mesh (§2.4.1, Liepa 2003).
 
     Each chosen boundary loop is closed by the triangulation of its polygon that minimizes, in this
@@ -138,8 +145,16 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
     the component (or the only one) — the rim of a scan or the outline of an open surface. The
     filters combine.
 
-    Loops are filled independently, so an island (a component floating inside a hole) keeps its
-    own loops closed and is not joined to the rim. A vertex where loops touch (a pinched boundary)
+    Islands: with ``islands`` (the default), a loop of another component that lies inside a
+    chosen loop — every vertex inside its polygon projected onto the plane of its Newell normal
+    and within half the square root of its projected area of that plane, oriented against it
+    (as the rim of a patch floating in the hole, facing the same way, is), and shorter — is
+    joined to that loop (the smallest such) by the shortest edge between their vertices, and the
+    joined polygon (the loop, the bridge, the island's loop, the bridge back) is triangulated,
+    refined and faired as one region: the island ends up connected to the rim and the patch
+    runs around it instead of through it (``report.patches[i].islands``; the island's loop is
+    not filled on its own, nor counted in ``filled``, nor kept as a border by ``keep_border``). With ``islands=False`` every loop is
+    filled on its own, so an island is closed by its own patch and stays apart. A vertex where loops touch (a pinched boundary)
     is handled: no patch face repeats a vertex and no patch adds an edge the mesh already has, so
     a manifold input stays manifold. Every input face and vertex is kept, in order; the new ones
     come after them (``report.patches[i].faces`` / ``.vertices`` are their rows).
@@ -169,14 +184,15 @@ def fill_holes(V: ArrayLike, F: ArrayLike, *, holes: ArrayLike | None = None, ma
         holes = _arguments.index_array(holes, "holes")
     V2, F2, raw = _core.fill_holes(V, F, holes=holes, max_hole_edges=max_hole_edges or 0,
                                    max_hole_diameter=diameter, keep_border=bool(keep_border), search=search,
-                                   refine=bool(refine), fair=bool(fair), density=density, progress=progress)
+                                   refine=bool(refine), fair=bool(fair), density=density,
+                                   islands=bool(islands), progress=progress)
     patches = tuple(
         HolePatch(loop=loop, faces=np.arange(face_begin, face_begin + faces, dtype=np.int64),
                   vertices=np.arange(vertex_begin, vertex_begin + vertices, dtype=np.int64), loop_edges=loop_edges,
                   search="delaunay" if delaunay else "exact", max_dihedral_angle=float(angle),
-                  edge_length_ratio=float(ratio))
-        for (loop, loop_edges, faces, vertices, delaunay, face_begin, vertex_begin), (angle, ratio)
-        in zip(raw["patches"].tolist(), raw["measures"].tolist()))
+                  edge_length_ratio=float(ratio), islands=tuple(int(i) for i in joined))
+        for (loop, loop_edges, faces, vertices, delaunay, face_begin, vertex_begin), (angle, ratio), joined
+        in zip(raw["patches"].tolist(), raw["measures"].tolist(), raw["islands"]))
     F2, reoriented = _orient_closed_outward(V2, F2, patches)
     report = FillHolesReport(patches=patches, unfilled=tuple((int(l), str(r)) for l, r in raw["unfilled"]),
                              loops=tuple(raw["loops"]), kept_borders=np.asarray(raw["kept_borders"], dtype=np.int64),

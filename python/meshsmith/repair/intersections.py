@@ -9,6 +9,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import _arguments, topology
+from .._core import InputError
 from .._core import repair as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
@@ -103,7 +104,8 @@ def _face_rings(F: np.ndarray, faces: np.ndarray, rings: int) -> np.ndarray:
 
 
 def remove_self_intersections(V: ArrayLike, F: ArrayLike, *, max_rounds: int = 6, refine: bool = True,
-                              fair: bool = True, progress: ProgressCallback = None) -> IntersectionFreeMesh:
+                              fair: bool = True, faces: ArrayLike | None = None,
+                              progress: ProgressCallback = None) -> IntersectionFreeMesh:
     """Cut out the self-intersecting faces and fill the holes this leaves, until none intersect (§2.4).
 
     Each round finds the intersecting pairs (:func:`self_intersections`), removes every face of
@@ -114,6 +116,12 @@ def remove_self_intersections(V: ArrayLike, F: ArrayLike, *, max_rounds: int = 6
     the report says how many pairs remain. Vertices no face uses any more are removed. A local
     fold or a poke-through is resolved in a round or two; two closed components that overlap are
     not (any closed fill of one still crosses the other): their pairs are left, counted.
+
+    ``faces``: a (m,) boolean mask of the faces that may be removed (with the patches of the
+    fills, which always may): only the pairs with at least one such face are resolved (counted,
+    in initial_pairs and remaining_pairs), by removing those faces and rings grown within the
+    mask; every other face is kept, so the pairs among them stay, uncounted. E.g. the faces a
+    seam made, so that what was there before is left as it was.
 
     V: (n, 3) float array, F: (m, 3) integer array, edge-manifold and consistently oriented (as
     :func:`meshsmith.repair.clean` returns it). Returns an :class:`IntersectionFreeMesh` ``(V,
@@ -126,12 +134,24 @@ def remove_self_intersections(V: ArrayLike, F: ArrayLike, *, max_rounds: int = 6
     max_rounds = _arguments.integer(max_rounds, "max_rounds", 1, 1000)
     V1, F1, vertex_map = remove_unreferenced(V, F)
     face_origin = np.arange(len(F1), dtype=np.int64)
-    pairs = self_intersections(V1, F1, progress=progress)
+    removable = np.ones(len(F1), dtype=bool)
+    if faces is not None:
+        removable = _arguments.flag_array(faces, "faces")
+        if removable.shape != (len(F1),):
+            raise InputError(f"faces: a mask of {len(removable)} entries for {len(F1)} faces")
+
+    def chosen_pairs() -> IndexArray:
+        found = self_intersections(V1, F1, progress=progress)
+        allowed = (face_origin < 0) | removable[np.maximum(face_origin, 0)]
+        return found[allowed[found].any(axis=1)] if len(found) else found
+
+    pairs = chosen_pairs()
     initial, rounds, removed, filled, unfilled = len(pairs), 0, 0, 0, 0
     while len(pairs) and rounds < max_rounds and len(F1):
+        allowed = (face_origin < 0) | removable[np.maximum(face_origin, 0)]
         cut = np.zeros(len(F1), dtype=bool)
         cut[pairs.ravel()] = True
-        cut = _face_rings(F1, cut, rounds)
+        cut = _face_rings(F1, cut & allowed, rounds) & allowed
         rounds += 1
         removed += int(cut.sum())
         opened = np.zeros(len(V1), dtype=bool)
@@ -150,7 +170,7 @@ def remove_self_intersections(V: ArrayLike, F: ArrayLike, *, max_rounds: int = 6
             face_origin = np.concatenate([face_origin, np.full(len(F1) - m_before, -1, dtype=np.int64)])
         V1, F1, used = remove_unreferenced(V1, F1)
         vertex_map = vertex_map[used]
-        pairs = self_intersections(V1, F1, progress=progress)
+        pairs = chosen_pairs()
     if not len(F1):
         V1, F1, vertex_map = np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
     report = IntersectionRemoval(initial_pairs=initial, remaining_pairs=len(pairs) if len(F1) else 0,

@@ -16,6 +16,7 @@ from ..geometry import SurfaceDistance
 from ..points import KdTree
 from .clean import clean
 from .holes import fill_holes
+from .intersections import remove_self_intersections, self_intersections
 from .stitching import boundary_sides, stitch_boundaries
 from .unreferenced import remove_unreferenced
 
@@ -35,7 +36,9 @@ class ZipperReport(Unpackable):
     split at B's vertices, coincident vertices merged); removed_degenerate: faces a merge or the
     final :func:`clean` removed (slivers of the seam); dropped_fragments: pieces of B of at most
     8 faces left unconnected along the seam, removed; filled_gaps: holes of at most 8 edges left
-    along the seam (every vertex on it), closed by :func:`fill_holes`; boundary_loops_before: loops of A plus
+    along the seam (every vertex on it), closed by :func:`fill_holes`; untangled_pairs: face pairs
+    crossing each other that the seam made (a sliver of B folded over A's rim, a gap's patch), resolved
+    by :func:`remove_self_intersections` on the seam's faces; boundary_loops_before: loops of A plus
     those of B; boundary_loops_after: loops of the output.
     """
 
@@ -49,6 +52,7 @@ class ZipperReport(Unpackable):
     removed_degenerate: int
     dropped_fragments: int
     filled_gaps: int
+    untangled_pairs: int
     boundary_loops_before: int
     boundary_loops_after: int
 
@@ -153,7 +157,7 @@ def _close_seam(V: FloatArray, F: IndexArray, source: IndexArray, rows: IndexArr
     on_seam = np.isin(seam_position[len(seam_points):], seam_position[:len(seam_points)])
     loops = topology.boundary_loops(F)
     gaps = [i for i, loop in enumerate(loops) if len(loop) <= SEAM_LEFTOVER and on_seam[loop].all()]
-    if not gaps:
+    if not gaps or not _fillable(F):
         return V, F, source, rows, fragments, 0
     V2, F2, filled = fill_holes(V, F, holes=gaps, refine=False, fair=False)
     added = len(F2) - len(F)
@@ -235,6 +239,52 @@ def _clip_to_loops(VB: FloatArray, FB: IndexArray, face_map: IndexArray, VA: Flo
     return VB, FB, face_map, inserted
 
 
+#: Rounds of cutting out and refilling the seam's crossing faces (each one ring wider).
+SEAM_ROUNDS = 2
+#: The most crossing pairs the seam may have made for them to be untangled: more is not a seam's
+#: few slivers but two scans that disagree along it (raw range scans: thousands), left as stitched.
+SEAM_MAX_PAIRS = 1000
+
+
+def _fillable(F: IndexArray) -> bool:
+    """Whether :func:`fill_holes` takes F: edge-manifold and consistently oriented (where two
+    raw scans' seam crossed itself it may be neither; the seam is then left as stitched)."""
+    return bool(topology.is_manifold(F) and topology.is_oriented(F))
+
+
+def _untangle_seam(V: FloatArray, F: IndexArray, source: IndexArray, rows: IndexArray, VA: FloatArray,
+                   FA: IndexArray) -> tuple[FloatArray, IndexArray, IndexArray, IndexArray, int]:
+    """Resolve the self-intersecting face pairs the seam made: :func:`remove_self_intersections`
+    may cut out and refill only faces of B, the gaps' patches and A's faces that the stitching split
+    (a corner not one of the input face's), so A's own faces, and any pair among them (the
+    input's own), stay as they were. Returns (V, F, source, rows, pairs resolved)."""
+    if not _fillable(F):
+        return V, F, source, rows, 0
+    removable = source != 0
+    from_a = np.flatnonzero(source == 0)
+    original = VA[FA[rows[from_a]]]                                               # (k, 3, 3)
+    same = (V[F[from_a]][:, :, None, :] == original[:, None, :, :]).all(axis=3).any(axis=2).all(axis=1)
+    removable[from_a[~same]] = True
+    pairs = self_intersections(V, F)
+    made = int(removable[pairs].any(axis=1).sum()) if len(pairs) else 0
+    if not made or made > SEAM_MAX_PAIRS:
+        return V, F, source, rows, 0
+    try:
+        V2, F2, removal = remove_self_intersections(V, F, faces=removable, max_rounds=SEAM_ROUNDS, refine=False,
+                                                     fair=False)
+    except InputError:
+        # A round's fill met a non-manifold edge (raw scans whose seam crosses itself in many
+        # places): the seam is left as stitched, its pairs for self_intersections to find.
+        return V, F, source, rows, 0
+    if not removal.initial_pairs:
+        return V, F, source, rows, 0
+    origin = removal.face_origin
+    kept = origin >= 0
+    source = np.where(kept, source[np.maximum(origin, 0)], -1)
+    rows = np.where(kept, rows[np.maximum(origin, 0)], -1)
+    return V2, F2, source, rows, removal.initial_pairs - removal.remaining_pairs
+
+
 @_arguments.real_options
 def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolerance: float,
            progress: ProgressCallback = None) -> ZipperedMesh:
@@ -256,7 +306,18 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
        Where B's cut met A's rim badly (a sharp turn of the rim), a piece of B of at most 8 faces
        may be left unconnected, and a hole of a few edges open: such pieces are dropped and such
        holes (every vertex on the seam) filled, and both counted.
-    A's triangles are all kept; where the two scans do not overlap, their boundaries stay open.
+    4. Untangling: where the seam left faces crossing each other (a sliver of B folded over A's
+       rim faces, nearly coplanar with them), :func:`remove_self_intersections` cuts out and
+       refills the seam's faces of every such pair — faces of B, the gaps' patches, A's faces
+       split at the seam — never A's own faces, so pairs that were in A are left as they were
+       (at most SEAM_ROUNDS = 2 rounds, each hole closed by Liepa's triangulation of its loop
+       alone, no vertex added; what is left is for :func:`self_intersections` to find). More
+       than SEAM_MAX_PAIRS = 1000 such pairs are not untangled (two scans disagreeing all along
+       the seam, not a few slivers).
+       It runs where the stitched mesh is manifold and oriented, and the seam is left as
+       stitched where it fails (a fill meeting a non-manifold edge: two raw range scans).
+    A's triangles are all kept (those along its rim split at B's vertices, and such a split face
+    refilled where it crossed B); where the two scans do not overlap, their boundaries stay open.
 
     VA, VB: (n, 3) float arrays; FA, FB: (m, 3) integer arrays, each a manifold, consistently
     oriented surface (as :func:`clean` returns it) with the same orientation (outward for a
@@ -353,11 +414,16 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
     if len(F) and len(loops_a) and len(Fb1):
         seam_points = np.vstack([Va[np.concatenate(loops_a)], Vb1[np.flatnonzero(on_seam)]])
         V, F, source, rows, fragments, gaps = _close_seam(V, F, source, rows, seam_points)
+    untangled = 0
+    if len(F) and len(loops_a) and len(Fb1):
+        _arguments.report(progress, 0.9, "zipper: untangling the seam")
+        V, F, source, rows, untangled = _untangle_seam(V, F, source, rows, Va, Fa)
     _arguments.report(progress, 1.0, "zipper: done")
     loops_after = len(topology.boundary_loops(F)) if len(F) else 0
     report = ZipperReport(face_source=source, face_map=rows, removed_faces=removed, snapped_vertices=snapped,
                           inserted_vertices=inserted, split_edges=split_edges, merged_vertices=merged,
                           removed_degenerate=degenerate, dropped_fragments=fragments, filled_gaps=gaps,
+                          untangled_pairs=untangled,
                           boundary_loops_before=loops_before,
                           boundary_loops_after=loops_after)
     return ZipperedMesh(V, F, report)

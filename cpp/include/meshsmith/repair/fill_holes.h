@@ -40,6 +40,14 @@ struct FillHolesOptions {
   /// at the loop's vertices, every vertex but the new ones held); nothing to do without refine.
   bool fair = true;
   double density = 1.4142135623730951;  ///< the refinement factor (Liepa's √2)
+  /// Fill a hole together with its islands as one region: a loop of another component that lies
+  /// inside a chosen loop (every vertex inside its polygon projected onto the plane of its
+  /// Newell normal, within half the square root of its projected area of that plane, oriented
+  /// against it, shorter) is joined to it by the shortest bridge edge between their vertices, and
+  /// the joined polygon (the outer loop, a bridge, the island loop, the bridge back) is filled
+  /// as one (an island's loop is then not kept by keep_border either). Off: every loop is filled
+  /// on its own, so an island's patch and the hole's cross.
+  bool islands = true;
 };
 
 /// The length ratio keep_border needs between the border and every other loop of its component.
@@ -51,7 +59,8 @@ constexpr int kMaxExactHoleEdges = 2000;
 /// One filled hole.
 struct HolePatch {
   int loop = -1;                 ///< index of the loop in boundary_loops's order
-  int loop_edges = 0;            ///< edges of the loop (= its vertices)
+  int loop_edges = 0;            ///< edges of the loop (= its vertices), its islands' not counted
+  std::vector<int> islands;      ///< island loops filled with it (joined by bridge edges), ascending
   int faces = 0;                 ///< faces added
   int vertices = 0;              ///< vertices added (by refinement)
   bool delaunay = false;         ///< the Delaunay search space held the triangulation (else exact)
@@ -82,8 +91,9 @@ struct FillHolesResult {
 
 /// Fills the holes of a triangle mesh. The faces of each patch are oriented like the faces around
 /// the hole; the input's vertices and faces are kept unchanged, in order, and new elements are
-/// appended. Each loop is filled independently (an island — a component inside a hole — gets
-/// its own loops closed, it is not joined to the hole's rim); a vertex where loops touch (a
+/// appended. Each loop is filled independently, except that with options.islands a loop of an
+/// island (a component floating inside a hole) is joined to the hole's loop by a bridge edge and
+/// filled with it as one region (HolePatch::islands); a vertex where loops touch (a
 /// pinched, non-manifold boundary vertex) is handled: no patch repeats a vertex within a face or
 /// adds an edge the mesh already has, so the output has no new non-manifold edge.
 /// V: #V×3, F: #F×3. Time per loop of n edges: O(n log n + t) for the Delaunay search (t the
