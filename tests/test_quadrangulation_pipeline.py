@@ -66,16 +66,18 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
     assert report.extraction.complete
     assert_valid(Vq, Q, 2)
     assert 0.8 * 3000 < len(Q) < 1.2 * 3000
-    # as extracted some quads next to cones are non-convex (−0.57); relaxed, 0.35 (measured)
-    assert report.min_scaled_jacobian_extracted < 0 < 0.3 < report.min_scaled_jacobian
+    # as extracted some quads next to cones are non-convex (−0.17); relaxed, 0.23 (measured with
+    # the merge at 3.5 quad edges; 0.35 at 1.0)
+    assert report.min_scaled_jacobian_extracted < 0 < 0.2 < report.min_scaled_jacobian
 
-# The shared meshes at 3,000 quads (measured 2026-12-01): every one flip-free, complete, manifold,
-# oriented, with the input's χ, after merging singularity pairs closer than 1 (or 1.5) quad edges,
-# and every quad convex after relaxing the worst ones: minimum scaled Jacobian spot 0.28,
-# pmp-bunny 0.21, rocker-arm 0.41, fertility 0.23, fandisk 0.46, kitten 0.21 (as extracted
-# 0.007, −0.49, −0.25, 0.09, 0.46, −0.18).
-SHARED = {"spot.obj": 0.25, "pmp-bunny.off": 0.18, "rocker-arm.obj": 0.35, "fertility.off": 0.2,
-          "fandisk.obj": 0.4, "kitten.off": 0.18}
+# The shared meshes at 3,000 quads (measured 2026-12-02): every one flip-free at the first
+# attempt (the merge at 3.5 quad edges), complete, manifold, oriented, with the input's χ, and
+# every quad convex after relaxing the worst ones: minimum scaled Jacobian spot 0.39, pmp-bunny
+# 0.28, rocker-arm 0.22, fertility 0.27, fandisk 0.27, kitten 0.24; irregular vertices 44, 36, 18,
+# 36, 20, 28. The second number is QuadriFlow's irregular count on the same mesh at the same
+# request (bench_quadrangulation.py, 2026-12-02): the issue asks for fewer.
+SHARED = {"spot.obj": (0.3, 62), "pmp-bunny.off": (0.2, 56), "rocker-arm.obj": (0.18, 44),
+          "fertility.off": (0.2, 66), "fandisk.obj": (0.2, 40), "kitten.off": (0.18, 30)}
 
 
 @pytest.mark.parametrize("name", sorted(SHARED))
@@ -88,14 +90,17 @@ def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
     assert_valid(Vq, Q, euler)
     assert report.singular_indices.sum() == 4 * euler  # Poincaré–Hopf
     assert 0.85 * 3000 < len(Q) < 1.15 * 3000
-    assert report.min_scaled_jacobian > SHARED[name]
+    min_jacobian, quadriflow_irregular = SHARED[name]
+    assert report.min_scaled_jacobian > min_jacobian
+    assert report.irregular_vertices < quadriflow_irregular
     assert report.miq_attempts <= 2 and report.merge_distance > 0
 
 
 @pytest.mark.parametrize("name, quads", [("kitten.off", 2000), ("rocker-arm.obj", 5000), ("kitten.off", 5000)])
 def test_other_sizes(data_dir, name, quads):
-    # kitten at 2,000 quads needs the merge at 2.5 quad edges, rocker-arm at 5,000 at 2.5, kitten
-    # at 5,000 at 4.0 (measured: every shorter distance leaves 1–4 degenerate triangles)
+    # with the old shortest-first order kitten at 2,000 quads needed the merge at 2.5 quad edges,
+    # rocker-arm at 5,000 2.5, kitten at 5,000 4.0 (every shorter distance left 1–4 degenerate
+    # triangles); every size must end flip-free whatever distance gets there
     V, F = io.read_mesh(data_dir / name)
     Vq, Q, report = quadrangulate(V, F, target_faces=quads)
     assert report.flipped_after == 0
