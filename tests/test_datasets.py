@@ -119,7 +119,36 @@ def test_sphere_points():
     assert np.array_equal(P, datasets.sphere_points(2000, seed=5, radius=2.0)[0])
 
 
+def test_scan_pair_has_the_documented_noise_outliers_and_motion():
+    V, F = datasets.icosphere(4)                       # unit sphere: distances to it are analytic
+    pair = datasets.scan_pair(V, F, n_source=3000, n_target=5000, noise=0.01, outliers=0.25, angle=30.0,
+                              translation=0.1, seed=3)
+    assert pair.source.shape == (4000, 3) and pair.n_outliers == 1000
+    assert pair.target.shape == pair.target_normals.shape == (5000, 3)
+    assert np.isclose(pair.diagonal, np.linalg.norm(V.max(0) - V.min(0)))
+    R, t = pair.motion[:3, :3], pair.motion[:3, 3]
+    assert np.allclose(R @ R.T, np.eye(3), atol=1e-14) and np.isclose(np.linalg.det(R), 1.0)
+    assert np.isclose(np.degrees(np.arccos((np.trace(R) - 1) / 2)), 30.0)
+    assert np.isclose(np.linalg.norm(t), 0.1 * pair.diagonal) and np.array_equal(pair.motion[3], [0, 0, 0, 1])
+    back = (pair.source - t) @ R                      # the inverse motion
+    radial = np.linalg.norm(back, axis=1) - 1.0
+    surface, wrong = radial[:-1000], back[-1000:]
+    # Isotropic noise of 1% of the diagonal: its normal component has that standard deviation.
+    assert abs(surface.std() / (0.01 * pair.diagonal) - 1.0) < 0.1 and abs(surface.mean()) < 0.002
+    box = 1.0 + 0.1 * pair.diagonal                   # the bounding box grown by the margin
+    assert np.abs(wrong).max() <= box and np.abs(wrong).max() > 1.0
+    assert np.allclose(np.linalg.norm(pair.target, axis=1), 1.0, atol=0.01)
+    again = datasets.scan_pair(V, F, n_source=3000, n_target=5000, noise=0.01, outliers=0.25, seed=3)
+    assert all(np.array_equal(a, b) for a, b in zip(pair, again))
+    assert not np.array_equal(pair.source, datasets.scan_pair(V, F, n_source=3000, outliers=0.25, seed=4).source)
+    assert datasets.scan_pair(V, F, n_source=10, outliers=0.0).source.shape == (10, 3)
+
+
 @pytest.mark.parametrize("call, message", [
+    (lambda: datasets.scan_pair(*datasets.cube(1), outliers=1.0), "outliers must be a fraction in [0, 1)"),
+    (lambda: datasets.scan_pair(*datasets.cube(1), noise=-0.1), "noise must be a non-negative"),
+    (lambda: datasets.scan_pair(*datasets.cube(1), angle=np.inf), "angle must be a non-negative"),
+    (lambda: datasets.scan_pair(*datasets.cube(1), n_source=0), "n_source = 0: expected an integer"),
     (lambda: datasets.icosphere(-1), "subdivisions = -1: expected an integer in [0, 10]"),
     (lambda: datasets.icosphere(2.5), "subdivisions = 2.5: expected an integer"),
     (lambda: datasets.icosphere(2**70), "subdivisions = 1180591620717411303424: expected an integer in [0, 10]"),

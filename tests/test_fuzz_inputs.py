@@ -226,10 +226,12 @@ VALID = {
     "registration.rotation_angle": {"T": np.eye(4)},
     "registration.icp": {"source": POINTS + 0.01, "target": POINTS, "max_iterations": 3, "normal_neighbours": 5,
                          "initial": np.eye(4), "threads": 1, "max_distance": 1.0, "target_normals": NORMALS,
-                         "normal_angle": 60.0, "source_normals": NORMALS},
+                         "normal_angle": 60.0, "source_normals": NORMALS, "relative_rmse": 1e-6,
+                         "relative_fitness": 1e-6, "patience": 5},
     "registration.icp_multi": {"scans": (POINTS + 0.01, POINTS), "max_iterations": 3, "normal_neighbours": 5,
                                "initial": np.stack([np.eye(4), np.eye(4)]), "rounds": 1, "threads": 1,
-                               "max_distance": 1.0, "normal_angle": 60.0},
+                               "max_distance": 1.0, "normal_angle": 60.0, "strategy": "pose_graph",
+                               "overlap_distance": 0.1, "min_overlap": 0.2, "edge_samples": 50, "patience": 5},
     "registration.voxel_downsample": {"voxel_size": 0.2},
     "reconstruction.depth_to_points": {"depth": np.full((6, 7), 2.0), "fx": 5.0, "fy": 5.0, "cx": 3.0, "cy": 3.0,
                                        "mask": np.ones((6, 7), bool)},
@@ -274,6 +276,7 @@ VALID = {
     "datasets.noisy": {"seed": 2},
     "datasets.sample_points": {"n": 20, "seed": 2},
     "datasets.sphere_points": {"n": 20, "seed": 2},
+    "datasets.scan_pair": {"n_source": 20, "n_target": 30, "seed": 2, "outliers": 0.1, "angle": 10.0},
 }
 #: Result fields documented to hold NaN (a lossy cast of the valid array, e.g. to uint8, can make
 #: every triangle of a vertex degenerate).

@@ -99,20 +99,13 @@ def test_align_rejects_bad_weights():
 
 @pytest.fixture(scope="module")
 def scan_pair(data_dir):
-    """Two independent samplings of the shared bunny: the source noisy (1% of the diagonal),
-    with 20% outliers, under a known motion of 30° and 10% of the diagonal."""
+    """datasets.scan_pair on the shared bunny: 4000 source samples with 1% of the diagonal noise
+    and 1000 outliers (20%), under a known motion of 30° and 10% of the diagonal, onto 8000
+    other clean samples."""
     V, F = io.read_mesh(data_dir / "bunny.off")
-    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
-    target, target_normals = datasets.sample_points(V, F, 8000, seed=1)
-    clean, _ = datasets.sample_points(V, F, 4000, seed=2)
-    rng = np.random.default_rng(3)
-    noisy = clean + 0.01 * diagonal * rng.normal(size=clean.shape)
-    low, high = V.min(0) - 0.1 * diagonal, V.max(0) + 0.1 * diagonal
-    outliers = rng.uniform(low, high, size=(1000, 3))     # 20% of the 5000 source points
-    motion = random_motion(rng, 30.0, 0.1 * diagonal)
-    source = registration.apply_transform(motion, np.vstack([noisy, outliers]))
-    return dict(V=V, diagonal=diagonal, target=target, target_normals=target_normals, source=source,
-                motion=motion, n_outliers=len(outliers))
+    pair = datasets.scan_pair(V, F, seed=3)
+    assert pair.n_outliers == 1000 and len(pair.source) == 5000
+    return dict(pair._asdict(), V=V)
 
 
 def recovery_errors(T, pair):
@@ -163,6 +156,53 @@ def test_icp_voxel_reduction_keeps_per_point_results(scan_pair):
     assert result.inliers.shape == (len(scan_pair["source"]),)
     angle, displacement = recovery_errors(result.transform, scan_pair)
     assert angle < 0.5 and displacement < 0.005, (angle, displacement)
+
+
+def torus_demo_pair():
+    """The demo's case: trimmed point-to-plane ICP (trim 0.8) of a torus scan with 0.5% noise and
+    15% outliers, moved by 25° and 8% of the diagonal."""
+    V, F = datasets.torus(major_radius=1.0, minor_radius=0.4, n_major=48, n_minor=24)
+    pair = datasets.scan_pair(V, F, n_source=3000, n_target=6000, noise=0.005, outliers=0.15, margin=0.0,
+                              angle=25.0, translation=0.08, seed=16)
+    return V, F, pair, dict(method="point_to_plane", target_normals=pair.target_normals, trim=0.8, max_iterations=50)
+
+
+def test_icp_oscillation_between_pair_sets_ends_as_converged():
+    """With a pose tolerance alone (relative change and cycle/stall tests off) the trimmed ICP of
+    the demo's torus never converges: its pairs flip at the trim threshold and the RMS wanders at
+    the noise level for all 50 iterations. The stall/cycle tests end it as converged, at the pose
+    of least RMS, aligned to the noise (mean distance of the aligned scan to the torus)."""
+    V, F, pair, options = torus_demo_pair()
+    plain = registration.icp(pair.source, pair.target, relative_rmse=0.0, patience=0, **options)
+    assert not plain.converged and plain.stop == "max_iterations" and plain.iterations == 50
+    tail = plain.rms_history[10:]
+    assert tail.max() - tail.min() < 0.05 * tail.min()         # it is aligned: the RMS only wanders
+    assert np.any(np.diff(tail) > 0)                          # ... up and down, so no tolerance ends it
+    result = registration.icp(pair.source, pair.target, **options)
+    assert result.converged and result.stop in ("cycle", "stalled"), result.stop
+    assert result.iterations < 50 and result.rms <= 1.0001 * result.rms_history[-10:].min(), result.rms
+    surface = meshsmith.geometry.SurfaceDistance(V, F)
+    scan = registration.apply_transform(np.linalg.inv(pair.motion), pair.source[:-pair.n_outliers])
+    after = surface.distances(registration.apply_transform(result.transform @ pair.motion, scan)).mean()
+    noise = surface.distances(scan).mean()                    # the scan's own distance: its noise
+    assert after < 1.1 * noise, (after, noise)
+
+
+def test_icp_stop_reasons_and_relative_change():
+    V, F = datasets.cube(4)
+    pair = datasets.scan_pair(V * [1.0, 0.7, 0.4], F, n_source=1000, n_target=2000, noise=0.01, outliers=0.0,
+                              angle=10.0, translation=0.05, seed=2)
+    P, Q = pair.source, pair.target
+    exact = registration.icp(P, Q, max_iterations=100)
+    assert exact.converged and exact.stop in ("tolerance", "relative_change", "cycle", "stalled")
+    # A coarse relative change (Open3D's relative_rmse) stops earlier, reported as such.
+    coarse = registration.icp(P, Q, max_iterations=100, relative_rmse=0.01, relative_fitness=1.0, patience=0)
+    assert coarse.converged and coarse.stop == "relative_change" and coarse.iterations < exact.iterations
+    assert registration.icp(P, Q, max_iterations=1).stop == "max_iterations"
+    for bad, words in ((dict(relative_rmse=-1.0), "relative_rmse"), (dict(relative_fitness=np.nan), "relative_fitness"),
+                       (dict(patience=1), "patience"), (dict(patience=-2), "patience")):
+        with pytest.raises(InputError, match=words):
+            registration.icp(P, Q, **bad)
 
 
 def test_icp_initial_transform_is_included():
@@ -339,6 +379,48 @@ def test_icp_multi_recovers_known_poses_of_partial_scans(views, method):
     assert (start_errors[1:, 0] > 5).all()
 
 
+@pytest.mark.parametrize("method", registration.ICP_METHODS)
+def test_icp_multi_pose_graph_recovers_known_poses_of_partial_scans(views, method):
+    """The pose graph on the four views: the neighbouring views (0-1, 1-2, 2-3, 3-0: a loop) are
+    its edges, the opposite ones (0-2, 1-3: they overlap only at the silhouette) are not, and the
+    global solve puts every pose within the bounds. (Here the growing model, which registers each
+    scan onto the union of all the others, is more accurate: the benchmark prints both.)"""
+    options = dict(method=method, initial=views["starts"], trim=0.6, max_iterations=100)
+    graph = registration.icp_multi(views["scans"], strategy="pose_graph", **options)
+    errors = pose_errors(graph.transforms, views["poses"], views["V"], views["diagonal"])
+    assert np.array_equal(graph.transforms[0], np.eye(4))
+    assert (errors[:, 0] < 0.5).all() and (errors[:, 1] < 0.005).all(), errors
+    assert graph.converged and graph.scan_converged.all() and 1 <= graph.rounds <= 10
+    edges = set(map(tuple, graph.edges.tolist()))
+    assert edges == {(0, 1), (1, 2), (2, 3), (0, 3)}, edges
+    assert graph.edges.dtype == np.int64 and graph.edges.shape[1] == 2
+    assert (graph.rms < 0.01 * views["diagonal"]).all(), graph.rms / views["diagonal"]
+    # The start poses were 10° off: the spanning tree of pairwise results and the refinement fix that.
+    assert (pose_errors(views["starts"], views["poses"], views["V"], views["diagonal"])[1:, 0] > 5).all()
+    assert registration.icp_multi(views["scans"], **options).edges.shape == (0, 2)   # growing: no graph
+
+
+def test_icp_multi_pose_graph_reports_a_disconnected_scan(views):
+    """A scan out of every other's reach (10 diagonals away, pairs limited to 10% of the
+    diagonal) gets no edge: it keeps its start pose and is reported, never silently placed."""
+    far = views["scans"][1] + 10 * views["diagonal"]
+    starts = views["starts"]
+    result = registration.icp_multi([views["scans"][0], views["scans"][1], far], strategy="pose_graph",
+                                    initial=np.array([starts[0], starts[1], np.eye(4)]), trim=0.6, max_iterations=30,
+                                    max_distance=0.1 * views["diagonal"])
+    assert not result.converged and not result.scan_converged[2] and result.scan_converged[:2].all()
+    assert np.array_equal(result.transforms[2], np.eye(4))
+    assert set(map(tuple, result.edges.tolist())) == {(0, 1)}
+    with pytest.raises(InputError, match="strategy"):
+        registration.icp_multi(views["scans"][:2], strategy="graph")
+    with pytest.raises(InputError, match="min_overlap"):
+        registration.icp_multi(views["scans"][:2], strategy="pose_graph", min_overlap=0.0)
+    with pytest.raises(InputError, match="overlap_distance"):
+        registration.icp_multi(views["scans"][:2], strategy="pose_graph", overlap_distance=0.0)
+    with pytest.raises(InputError, match="rounds"):
+        registration.icp_multi(views["scans"][:2], strategy="pose_graph", rounds=0)
+
+
 def test_icp_multi_is_deterministic_and_reduces_once(views):
     runs = [registration.icp_multi(views["scans"], initial=views["starts"], voxel_size=0.01 * views["diagonal"],
                                    threads=threads) for threads in (1, None)]
@@ -353,14 +435,15 @@ def test_icp_multi_bunny_scans_as_stanford_aligned_them(data_dir):
     truth = np.eye(4)
     truth[:3, :3] = Rotation.from_quat([0.00548449, -0.294635, -0.0038555, 0.955586]).as_matrix().T
     truth[:3, 3] = [-0.0520211, -0.000383981, -0.0109223]
-    result = registration.icp_multi(scans, trim=0.8, max_iterations=100)
-    assert result.converged
-    assert np.array_equal(result.transforms[0], np.eye(4))
-    assert np.degrees(registration.rotation_angle(np.linalg.inv(truth) @ result.transforms[1])) < 0.2
-    displacement = np.linalg.norm(registration.apply_transform(result.transforms[1], scans[1])
-                                  - registration.apply_transform(truth, scans[1]), axis=1).max()
-    assert displacement < 0.001 * 0.2474 * 2
-    assert (result.rms < 0.0005).all(), result.rms
+    for strategy in ("growing", "pose_graph"):
+        result = registration.icp_multi(scans, trim=0.8, max_iterations=100, strategy=strategy)
+        assert result.converged, strategy
+        assert np.array_equal(result.transforms[0], np.eye(4))
+        assert np.degrees(registration.rotation_angle(np.linalg.inv(truth) @ result.transforms[1])) < 0.2
+        displacement = np.linalg.norm(registration.apply_transform(result.transforms[1], scans[1])
+                                      - registration.apply_transform(truth, scans[1]), axis=1).max()
+        assert displacement < 0.001 * 0.2474 * 2
+        assert (result.rms < 0.0005).all(), result.rms
 
 
 def test_icp_multi_reports_non_convergence_and_rejects_bad_input(views):

@@ -7,6 +7,7 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 #include <string>
@@ -44,7 +45,8 @@ auto with_threads(const py::object& threads, Run&& run) {
 
 registration::IcpOptions icp_options(const std::string& method, const py::object& max_iterations, double tolerance,
                                      double max_distance, double trim, double voxel_size, double normal_angle,
-                                     const py::object& normal_neighbours) {
+                                     const py::object& normal_neighbours, double relative_rmse,
+                                     double relative_fitness, const py::object& patience) {
   registration::IcpOptions options;
   options.method = parse_choice<registration::IcpMethod>(
       method, "method", {{"point_to_point", registration::IcpMethod::point_to_point},
@@ -56,6 +58,9 @@ registration::IcpOptions icp_options(const std::string& method, const py::object
   options.voxel_size = voxel_size;
   options.normal_angle = normal_angle;
   options.normal_neighbours = integer_argument<int>(normal_neighbours, "normal_neighbours", 3, 10000);
+  options.relative_rmse = relative_rmse;
+  options.relative_fitness = relative_fitness;
+  options.patience = integer_argument<int>(patience, "patience", 0, 1000000);
   return options;
 }
 
@@ -76,7 +81,8 @@ void bind_registration(py::module_& m) {
                   const std::string& method, const py::object& max_iterations, double tolerance,
                   double max_distance, double trim, double voxel_size, const py::object& normal_neighbours,
                   const py::object& initial, const py::object& threads, const py::object& callback,
-                  const py::object& source_normals, double normal_angle) {
+                  const py::object& source_normals, double normal_angle, double relative_rmse,
+                  double relative_fitness, const py::object& patience) {
     auto s = as_real_matrix(source, "source", 3);
     auto t = as_real_matrix(target, "target", 3);
     auto normals_of = [](const py::object& value, const char* name) {
@@ -85,7 +91,8 @@ void bind_registration(py::module_& m) {
     RealArray normals = normals_of(target_normals, "target_normals");
     RealArray s_normals = normals_of(source_normals, "source_normals");
     registration::IcpOptions options = icp_options(method, max_iterations, tolerance, max_distance, trim, voxel_size,
-                                                   normal_angle, normal_neighbours);
+                                                   normal_angle, normal_neighbours, relative_rmse, relative_fitness,
+                                                   patience);
     if (!initial.is_none()) options.initial = transform_argument(initial, "initial");
     Progress progress = make_progress(callback);
     auto result = with_threads(threads, [&] {
@@ -98,21 +105,31 @@ void bind_registration(py::module_& m) {
     for (std::size_t i = 0; i < result.inliers.size(); ++i) view(py::ssize_t(i)) = result.inliers[i] != 0;
     py::array_t<double> history(static_cast<py::ssize_t>(result.rms_history.size()), result.rms_history.data());
     return py::make_tuple(transform_to_numpy(result.transform), result.rms, result.iterations, result.converged,
-                          result.inlier_fraction, history, inliers);
+                          result.inlier_fraction, history, inliers, result.stop);
   }, py::arg("source"), py::arg("target"), py::arg("target_normals") = py::none(),
      py::arg("method") = "point_to_point", py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6,
      py::arg("max_distance") = 0.0, py::arg("trim") = 1.0, py::arg("voxel_size") = 0.0,
      py::arg("normal_neighbours") = 16, py::arg("initial") = py::none(), py::arg("threads") = py::none(),
      py::arg("progress") = py::none(), py::arg("source_normals") = py::none(), py::arg("normal_angle") = 0.0,
-     "(transform, rms, iterations, converged, inlier_fraction, rms_history, inliers) of rigid ICP (§2.3.1).");
+     py::arg("relative_rmse") = 1e-6, py::arg("relative_fitness") = 1e-6, py::arg("patience") = 10,
+     "(transform, rms, iterations, converged, inlier_fraction, rms_history, inliers, stop) of rigid ICP (§2.3.1).");
 
   m.def("icp_multi", [](const py::sequence& scans, const std::string& method, const py::object& max_iterations,
                         double tolerance, double max_distance, double trim, double voxel_size, double normal_angle,
                         const py::object& normal_neighbours, const py::object& initial, const py::object& rounds,
-                        double round_tolerance, const py::object& threads, const py::object& callback) {
+                        double round_tolerance, const py::object& threads, const py::object& callback,
+                        double relative_rmse, double relative_fitness, const py::object& patience,
+                        const std::string& strategy, double overlap_distance, double min_overlap,
+                        const py::object& edge_samples) {
     registration::IcpMultiOptions options;
+    options.strategy = parse_choice<registration::MultiStrategy>(
+        strategy, "strategy", {{"growing", registration::MultiStrategy::growing},
+                               {"pose_graph", registration::MultiStrategy::pose_graph}});
+    options.overlap_distance = overlap_distance;
+    options.min_overlap = min_overlap;
+    options.edge_samples = integer_argument<int>(edge_samples, "edge_samples", 3, 100000000);
     options.icp = icp_options(method, max_iterations, tolerance, max_distance, trim, voxel_size, normal_angle,
-                              normal_neighbours);
+                              normal_neighbours, relative_rmse, relative_fitness, patience);
     options.rounds = integer_argument<int>(rounds, "rounds", 0, 1000);
     options.round_tolerance = round_tolerance;
     std::vector<VertexMatrix> points;
@@ -140,14 +157,21 @@ void bind_registration(py::module_& m) {
     py::array_t<bool> converged(k);
     auto c_view = converged.mutable_unchecked<1>();
     for (py::ssize_t i = 0; i < k; ++i) c_view(i) = result.scan_converged[std::size_t(i)] != 0;
+    py::array_t<std::int64_t> edges({static_cast<py::ssize_t>(result.edges.size()), py::ssize_t(2)});
+    auto e_view = edges.mutable_unchecked<2>();
+    for (std::size_t e = 0; e < result.edges.size(); ++e)
+      e_view(py::ssize_t(e), 0) = result.edges[e].first, e_view(py::ssize_t(e), 1) = result.edges[e].second;
     return py::make_tuple(transforms, py::array_t<double>(k, result.rms.data()),
                           py::array_t<double>(k, result.inlier_fraction.data()), converged, result.rounds,
-                          result.converged);
+                          result.converged, edges);
   }, py::arg("scans"), py::arg("method") = "point_to_point", py::arg("max_iterations") = 50,
      py::arg("tolerance") = 1e-6, py::arg("max_distance") = 0.0, py::arg("trim") = 1.0, py::arg("voxel_size") = 0.0,
      py::arg("normal_angle") = 0.0, py::arg("normal_neighbours") = 16, py::arg("initial") = py::none(),
      py::arg("rounds") = 10, py::arg("round_tolerance") = 1e-3, py::arg("threads") = py::none(), py::arg("progress") = py::none(),
-     "(transforms, rms, inlier_fraction, scan_converged, rounds, converged) of multi-scan ICP (§2.3.1).");
+     py::arg("relative_rmse") = 1e-6, py::arg("relative_fitness") = 1e-6, py::arg("patience") = 10,
+     py::arg("strategy") = "growing", py::arg("overlap_distance") = 0.0, py::arg("min_overlap") = 0.2,
+     py::arg("edge_samples") = 2000,
+     "(transforms, rms, inlier_fraction, scan_converged, rounds, converged, edges) of multi-scan ICP (§2.3.1).");
 
   m.def("voxel_downsample", [](const py::object& P, double voxel_size) {
     auto points = as_real_matrix(P, "P", 3);

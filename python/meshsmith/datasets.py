@@ -9,6 +9,7 @@ points, several GB of arrays) rather than exhausting memory.
 from __future__ import annotations
 
 import numbers
+from typing import NamedTuple
 
 import numpy as np
 
@@ -16,7 +17,7 @@ from . import _arguments
 from ._arguments import MAX_ELEMENTS
 from ._core import InputError
 from ._deprecation import positional_options
-from ._typing import ArrayLike
+from ._typing import ArrayLike, FloatArray
 from .core import Mesh, PointCloud
 
 # The finest icosphere within MAX_ELEMENTS faces (20 * 4**10 = 21M; 4**11 would be 84M): the
@@ -24,7 +25,7 @@ from .core import Mesh, PointCloud
 _ICOSPHERE_MAX_SUBDIVISIONS = 10
 
 __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
-           "sphere_points"]
+           "sphere_points", "ScanPair", "scan_pair"]
 
 
 # --- parameter checks --------------------------------------------------------------------------
@@ -357,3 +358,71 @@ def sphere_points(n: int, seed: int = 0, radius: float = 1.0) -> PointCloud:
         length = np.linalg.norm(N, axis=1, keepdims=True)
     N /= length
     return PointCloud(N * radius, N)
+
+
+class ScanPair(NamedTuple):
+    """Result of :func:`scan_pair`; unpacks as ``source, target, target_normals, motion, ...``.
+
+    source: (n_source + k, 3) float64, the noisy surface samples then the k outliers, all moved
+    by ``motion``; target: (n_target, 3) float64 clean samples; target_normals: (n_target, 3)
+    their true unit normals; motion: (4, 4) the rigid transform applied to the source (so
+    ``inverse(motion)`` is what registration must recover: ``T @ motion`` is the identity for a
+    perfect ``T``); n_outliers: k (the last k rows of source); diagonal: the mesh's bounding-box
+    diagonal, the unit of noise, translation and margin.
+    """
+    source: FloatArray
+    target: FloatArray
+    target_normals: FloatArray
+    motion: FloatArray
+    n_outliers: int
+    diagonal: float
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """Rotation by `angle` radians about the unit `axis` (Rodrigues' formula)."""
+    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def scan_pair(V: ArrayLike, F: ArrayLike, *, n_source: int = 4000, n_target: int = 8000, noise: float = 0.01,
+              outliers: float = 0.2, margin: float = 0.1, angle: float = 30.0, translation: float = 0.1,
+              seed: int = 0) -> ScanPair:
+    """A synthetic ICP scan pair of the surface (V, F) with a known motion (§2.3.1 tests,
+    benchmark and demo): the target is ``n_target`` clean samples (:func:`sample_points`) with
+    their true normals; the source is ``n_source`` other samples with isotropic Gaussian noise of
+    ``noise`` × the bounding-box diagonal, plus outliers uniform in the bounding box grown by
+    ``margin`` diagonals on every side, as the fraction ``outliers`` of the source's rows, all moved
+    by a rotation of ``angle`` degrees about a random axis and a translation of ``translation``
+    diagonals in a random direction (the motion is applied about the origin: x ↦ R x + t).
+
+    V: (v, 3) float array, F: (m, 3) integer array. Returns a :class:`ScanPair`. Same seed, same
+    result. Raises InputError for a bad mesh, n_source or n_target < 1, noise, margin, angle or
+    translation negative or not finite, or outliers outside [0, 1).
+    """
+    V, F = _mesh_arrays(V, F)
+    n_source, n_target = _integer("n_source", n_source, 1), _integer("n_target", n_target, 1)
+    noise, margin = _non_negative("noise", noise), _non_negative("margin", margin)
+    angle, translation = _non_negative("angle", angle), _non_negative("translation", translation)
+    fraction = _non_negative("outliers", outliers)
+    if not fraction < 1:
+        raise InputError(f"outliers must be a fraction in [0, 1), got {outliers!r}")
+    n_outliers = int(round(n_source * fraction / (1.0 - fraction)))
+    _not_too_large("points", n_source + n_outliers)
+    rng = np.random.default_rng(_seed(seed))
+    first, second = (int(x) for x in rng.integers(0, 2 ** 63 - 1, size=2))
+    target, target_normals = sample_points(V, F, n_target, seed=first)
+    assert target_normals is not None  # sample_points always gives the face normals
+    clean, _ = sample_points(V, F, n_source, seed=second)
+    low, high = V.min(axis=0), V.max(axis=0)
+    diagonal = float(np.linalg.norm(high - low))
+    noisy_points = clean + noise * diagonal * rng.normal(size=clean.shape)
+    wrong = rng.uniform(low - margin * diagonal, high + margin * diagonal, size=(n_outliers, 3))
+    motion = np.eye(4)
+    motion[:3, :3] = _rotation(_unit(rng.normal(size=3)), np.radians(angle))
+    motion[:3, 3] = translation * diagonal * _unit(rng.normal(size=3))
+    source = np.vstack([noisy_points, wrong]) @ motion[:3, :3].T + motion[:3, 3]
+    return ScanPair(source, target, target_normals, motion, n_outliers, diagonal)

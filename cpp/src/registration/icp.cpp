@@ -19,8 +19,11 @@
 // then the exact rotation of ω by Rodrigues' formula, as in Low 2004). Sums are taken over fixed
 // blocks of 2048 pairs and the blocks added in order, so the result does not depend on how TBB
 // schedules them; sums are of coordinates relative to the current source centroid, which keeps
-// them well conditioned. Convergence: an update that rotates by less than `tolerance` radians
-// and translates by less than `tolerance` diagonals.
+// them well conditioned. Convergence (IcpOptions, IcpResult::stop): an update that rotates by
+// less than `tolerance` radians and translates by less than `tolerance` diagonals; a relative
+// change of the inlier RMS and count below relative_rmse / relative_fitness (Open3D's test);
+// a cycle (pairs or pose of up to `patience` iterations ago again) or a stall (no new least
+// RMS for `patience` iterations), both of which end on the pose of least RMS.
 #include <meshsmith/registration/icp.h>
 
 #include "horn.h"
@@ -163,6 +166,12 @@ void check_options(const IcpOptions& o) {
     throw InputError("max_iterations = " + std::to_string(o.max_iterations) + ": expected at least 1");
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
     throw InputError("tolerance = " + number_text(o.tolerance) + ": expected a positive finite number");
+  if (!(o.relative_rmse >= 0.0) || !std::isfinite(o.relative_rmse))
+    throw InputError("relative_rmse = " + number_text(o.relative_rmse) + ": expected a finite fraction >= 0 (0: off)");
+  if (!(o.relative_fitness >= 0.0) || !std::isfinite(o.relative_fitness))
+    throw InputError("relative_fitness = " + number_text(o.relative_fitness) + ": expected a finite fraction >= 0");
+  if (o.patience < 0 || o.patience == 1)
+    throw InputError("patience = " + std::to_string(o.patience) + ": expected 0 (off) or at least 2 iterations");
   if (!(o.max_distance >= 0.0))
     throw InputError("max_distance = " + number_text(o.max_distance) + ": expected a length >= 0 (0: no limit)");
   if (!(o.trim > 0.0 && o.trim <= 1.0))
@@ -289,6 +298,13 @@ void correspond(const points::KdTree& tree, const VertexMatrix& S, const Eigen::
   }
   c.inliers = count;
   c.hash = hash;
+}
+
+/// The angle of a 3×3 rotation (radians).
+double rotation_angle_3(const Eigen::Matrix3d& rotation) {
+  Transform T = Transform::Identity();
+  T.topLeftCorner<3, 3>() = rotation;
+  return rotation_angle(T);
 }
 
 double inlier_rms(const Correspondences& c) {
@@ -430,10 +446,26 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
                                  ? std::pow(frame.to_normalized(options.max_distance, 1), 2)
                                  : std::numeric_limits<double>::infinity();
   IcpResult result;
+  result.stop = "max_iterations";
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
   Correspondences c;
-  std::vector<std::uint64_t> seen;  // hashes of the pair sets of the iterations so far
+  // Per iteration: the pose at its start, the hash of its pairs and their RMS (normalized units).
+  struct Visit {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    std::uint64_t hash;
+    double rms;
+    Eigen::Index inliers;
+  };
+  std::vector<Visit> visits;
+  // Progress: the least RMS and the most inliers so far, and the last visit that improved
+  // either by more than relative_rmse / relative_fitness (with max_distance, pairs join as the
+  // alignment improves and the RMS of the inliers may then grow: the count is progress too).
+  double least_rms = std::numeric_limits<double>::infinity();
+  Eigen::Index most_inliers = 0;
+  std::size_t last_record = 0;
+  const auto window = std::size_t(options.patience);
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     progress.report(double(iteration) / double(options.max_iterations), "icp");
     correspond(tree, S, R, t, max_squared, options.trim, iteration > 0, normal_test, c);
@@ -451,17 +483,43 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
                          "start (the nearest pair is " + number_text(frame.to_input(std::sqrt(nearest), 1, "distance")) +
                          " apart); at least " + std::to_string(needed) + " are needed");
       }
-      break;  // lost the pairs: reported as not converged
-    }
-    // The same pairs as 2 to 4 iterations ago: the iteration cycles between sets of pairs that
-    // differ by a few points at the rejection threshold; nothing new can come (converged).
-    bool cycle = false;
-    for (std::size_t back = 2; back <= 4 && back <= seen.size(); ++back)
-      cycle = cycle || seen[seen.size() - back] == c.hash;
-    seen.push_back(c.hash);
-    if (cycle) {
-      result.converged = true;
+      result.stop = "lost_pairs";  // reported as not converged
       break;
+    }
+    const double rms = inlier_rms(c);
+    visits.push_back({R, t, c.hash, rms, c.inliers});
+    const std::size_t now = visits.size() - 1;
+    if (now > 0) {
+      const Visit& before = visits[now - 1];
+      if (options.relative_rmse > 0.0 && std::abs(rms - before.rms) <= options.relative_rmse * before.rms &&
+          double(std::abs(c.inliers - before.inliers)) <= options.relative_fitness * double(before.inliers)) {
+        result.stop = "relative_change", result.converged = true;
+        break;
+      }
+    }
+    if (rms < (1.0 - options.relative_rmse) * least_rms ||
+        double(c.inliers) > (1.0 + options.relative_fitness) * double(most_inliers))
+      last_record = now;
+    least_rms = std::min(least_rms, rms), most_inliers = std::max(most_inliers, c.inliers);
+    if (window >= 2) {
+      // A cycle: the pairs, or the pose to within the tolerance, of 2 .. patience iterations ago.
+      const Eigen::Vector3d centre_now = R * source_centroid + t;
+      bool cycle = false;
+      for (std::size_t back = 2; back <= window && back <= now && !cycle; ++back) {
+        const Visit& v = visits[now - back];
+        const double angle = rotation_angle_3(R * v.R.transpose());
+        const double moved = (centre_now - (v.R * source_centroid + v.t)).norm();
+        cycle = v.hash == c.hash || (angle < options.tolerance && moved < options.tolerance * diagonal);
+      }
+      const bool stalled = !cycle && now - last_record >= window;
+      if (cycle || stalled) {
+        result.stop = cycle ? "cycle" : "stalled", result.converged = true;
+        std::size_t best = now;  // the pose of least RMS of the window
+        for (std::size_t v = now - std::min(now, window); v < now; ++v)
+          if (visits[v].rms < visits[best].rms) best = v;
+        R = visits[best].R, t = visits[best].t;
+        break;
+      }
     }
     result.rms_history.push_back(frame.to_input(inlier_rms(c), 1, "rms"));
     ++result.iterations;
@@ -499,20 +557,19 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
       // A tiny damping keeps the solve defined where the target lets the source slide (a plane).
       JtJ.diagonal().array() += 1e-12 * JtJ.trace() + std::numeric_limits<double>::min();
       const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-system.Jtr);
-      if (!x.allFinite()) break;
+      if (!x.allFinite()) {
+        result.stop = "singular";
+        break;
+      }
       dR = detail::rotation_from_vector(x.head<3>());
       dt = centre + x.tail<3>() - dR * centre;
     }
     R = dR * R;
     t = dR * t + dt;
-    const double angle = rotation_angle([&] {
-      Transform D = Transform::Identity();
-      D.topLeftCorner<3, 3>() = dR;
-      return D;
-    }());
+    const double angle = rotation_angle_3(dR);
     const double moved = (dR * centre + dt - centre).norm();  // how far the centroid moved
     if (angle < options.tolerance && moved < options.tolerance * diagonal) {
-      result.converged = true;
+      result.stop = "tolerance", result.converged = true;
       break;
     }
   }
@@ -533,7 +590,7 @@ IcpResult icp(const VertexRef& source_in, const VertexRef& target_in, const Vert
   correspond(tree, all, R, t, max_squared, options.trim, !reduced, final_test, c);
   result.rms = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
   result.inlier_fraction = double(c.inliers) / double(all.rows());
-  if (c.inliers < needed) result.converged = false;
+  if (c.inliers < needed) result.converged = false, result.stop = "lost_pairs";
   result.inliers.assign(std::size_t(all.rows()), 0);
   for (Eigen::Index k = 0; k < all.rows(); ++k) {
     const std::size_t row = reduced ? std::size_t(k) : std::size_t(order[std::size_t(k)]);
@@ -563,6 +620,16 @@ IcpMultiResult icp_multi(const std::vector<VertexMatrix>& scans, const IcpMultiO
   if (!(options.round_tolerance > 0.0) || !std::isfinite(options.round_tolerance))
     throw InputError("round_tolerance = " + number_text(options.round_tolerance) + ": expected a positive finite number");
   check_options(options.icp);
+  const bool graph = options.strategy == MultiStrategy::pose_graph;
+  if (graph && options.rounds < 1)
+    throw InputError("rounds = " + std::to_string(options.rounds) + ": the pose graph needs at least 1 iteration");
+  if (!(options.overlap_distance >= 0.0) || !std::isfinite(options.overlap_distance))
+    throw InputError("overlap_distance = " + number_text(options.overlap_distance) +
+                     ": expected a finite length >= 0 (0: 1% of the largest scan's diagonal)");
+  if (!(options.min_overlap > 0.0 && options.min_overlap <= 1.0))
+    throw InputError("min_overlap = " + number_text(options.min_overlap) + ": expected a fraction in (0, 1]");
+  if (options.edge_samples < 3)
+    throw InputError("edge_samples = " + std::to_string(options.edge_samples) + ": expected at least 3");
   for (std::size_t i = 0; i < options.initial.size(); ++i)
     if (!options.initial[i].allFinite() || options.initial[i].row(3) != Eigen::RowVector4d(0, 0, 0, 1))
       throw InputError("initial[" + std::to_string(i) + "]: expected a finite 4×4 affine transform with last row (0, 0, 0, 1)");
@@ -631,6 +698,191 @@ IcpMultiResult icp_multi(const std::vector<VertexMatrix>& scans, const IcpMultiO
   double diagonal = 0.0;
   for (const VertexMatrix& P : points) diagonal = std::max(diagonal, (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm());
 
+  // Scan i's pairs with the union of the others at the final poses: its RMS and inlier fraction.
+  auto evaluate = [&](std::size_t i) {
+    std::vector<std::size_t> rest;
+    for (std::size_t j = 0; j < k; ++j)
+      if (j != i) rest.push_back(j);
+    VertexMatrix target, target_normals;
+    union_of(rest, target, target_normals);
+    const points::KdTree tree(target);
+    const CoordinateFrame& frame = tree.frame();
+    const Eigen::Matrix3d A = result.transforms[i].topLeftCorner<3, 3>();
+    const Eigen::Vector3d b = result.transforms[i].topRightCorner<3, 1>();
+    const VertexMatrix S = frame.normalize_vertices(VertexMatrix((points[i] * A.transpose()).rowwise() + b.transpose()));
+    VertexMatrix SN;
+    if (options.icp.normal_angle > 0.0) {
+      SN = unit_normals[i] * A.inverse();
+      SN.rowwise().normalize();
+    }
+    const NormalTest test{options.icp.normal_angle > 0.0 ? &SN : nullptr, &target_normals,
+                          std::cos(options.icp.normal_angle)};
+    const double max_squared = options.icp.max_distance > 0.0
+                                   ? std::pow(frame.to_normalized(options.icp.max_distance, 1), 2)
+                                   : std::numeric_limits<double>::infinity();
+    Correspondences c;
+    correspond(tree, S, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), max_squared, options.icp.trim, false, test, c);
+    result.rms[i] = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
+    result.inlier_fraction[i] = double(c.inliers) / double(S.rows());
+  };
+  if (graph) {
+    // Pairwise registrations: scan j onto scan i from their start poses; an edge where they overlap.
+    const double overlap = options.overlap_distance > 0.0 ? options.overlap_distance : 0.005 * diagonal;
+    struct Edge {
+      std::size_t i, j;
+      std::vector<Eigen::Index> rows;  // the sampled rows of scan j that overlap scan i
+    };
+    std::vector<Edge> edges;
+    std::vector<char> edge_converged;
+    std::vector<Transform> relative_poses;  // per edge: the pairwise ICP's map of scan j into scan i's frame
+    std::vector<points::KdTree> trees;
+    trees.reserve(k);
+    for (std::size_t i = 0; i < k; ++i) trees.emplace_back(points[i]);
+    const std::size_t pair_count = k * (k - 1) / 2;
+    std::size_t done = 0;
+    for (std::size_t i = 0; i < k; ++i) {
+      for (std::size_t j = i + 1; j < k; ++j) {
+        ++done;
+        pairwise.initial = result.transforms[i].inverse() * result.transforms[j];
+        auto moved_by = [&](const Transform& T) {
+          return VertexMatrix((points[j] * T.topLeftCorner<3, 3>().transpose()).rowwise() +
+                              T.topRightCorner<3, 1>().transpose());
+        };
+        if (options.icp.max_distance > 0.0) {  // too few pairs within max_distance at the start: no edge
+          const points::KnnResult start = trees[i].query(moved_by(pairwise.initial), 1);
+          if ((start.distances.array() <= options.icp.max_distance).count() < 6) continue;
+        }
+        const Progress part = progress.subrange(0.8 * double(done - 1) / double(pair_count),
+                                                0.8 * double(done) / double(pair_count));
+        IcpResult r;
+        try {
+          r = icp(points[j], points[i], normals ? unit_normals[j] : VertexMatrix(0, 3),
+                  normals ? unit_normals[i] : VertexMatrix(0, 3), pairwise, part);
+        } catch (const InputError& error) {
+          throw InputError("icp_multi: scans " + std::to_string(i) + " and " + std::to_string(j) + ": " + error.what());
+        }
+        const points::KnnResult nearest = trees[i].query(moved_by(r.transform), 1);
+        std::vector<Eigen::Index> close;
+        for (Eigen::Index row = 0; row < points[j].rows(); ++row)
+          if (nearest.distances(row, 0) <= overlap) close.push_back(row);
+        if (double(close.size()) < options.min_overlap * double(points[j].rows()) || close.size() < 6) continue;
+        Edge edge{i, j, {}};
+        const std::size_t samples = std::min(close.size(), std::size_t(options.edge_samples));
+        for (std::size_t n = 0; n < samples; ++n) edge.rows.push_back(close[n * close.size() / samples]);
+        edges.push_back(std::move(edge));
+        edge_converged.push_back(r.converged ? 1 : 0);
+        result.edges.emplace_back(int(i), int(j));
+        relative_poses.push_back(r.transform);
+      }
+    }
+    // The scans that reach scan 0 through the edges start from the pairwise poses composed along
+    // a spanning tree (grown from scan 0 in edge order); the others keep their start poses.
+    std::vector<char> reached(k, 0);
+    reached[0] = 1;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (std::size_t n = 0; n < edges.size(); ++n) {
+        const Edge& e = edges[n];
+        if (reached[e.i] == reached[e.j]) continue;
+        if (reached[e.i]) result.transforms[e.j] = result.transforms[e.i] * relative_poses[n];
+        else result.transforms[e.i] = result.transforms[e.j] * relative_poses[n].inverse();
+        reached[e.i] = reached[e.j] = 1, grew = true;
+      }
+    }
+    std::vector<int> variable(k, -1);
+    int unknowns = 0;
+    for (std::size_t s = 1; s < k; ++s)
+      if (reached[s]) variable[s] = unknowns++;
+    // Multi-view ICP over the graph: each iteration pairs every edge's rows of scan j with their
+    // closest points of scan i at the current poses (pairs beyond overlap_distance left out),
+    // then one Gauss–Newton step of Σ over the edges of the point-to-point ‖X_i p − X_j q‖² (or,
+    // for point-to-plane, ⟨X_i p − X_j q, n⟩² with n the normal at p), each pose perturbed as
+    // x ↦ c + R(ω)(x − c) + τ about the centroid c of scan 0.
+    const Eigen::Vector3d c = (result.transforms[0].topLeftCorner<3, 3>() * points[0].colwise().mean().transpose() +
+                               result.transforms[0].topRightCorner<3, 1>());
+    auto skew = [](const Eigen::Vector3d& v) {
+      Eigen::Matrix3d K;
+      K << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
+      return K;
+    };
+    bool settled = unknowns == 0;
+    for (int iteration = 0; iteration < options.rounds && !settled; ++iteration) {
+      progress.report(0.8 + 0.2 * double(iteration) / double(options.rounds), "icp_multi: pose graph");
+      Eigen::MatrixXd H = Eigen::MatrixXd::Zero(6 * unknowns, 6 * unknowns);
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(6 * unknowns);
+      for (const Edge& e : edges) {
+        const int vi = variable[e.i], vj = variable[e.j];
+        if (vi < 0 && vj < 0) continue;
+        const Transform& Xi = result.transforms[e.i];
+        const Transform& Xj = result.transforms[e.j];
+        const Transform relative = Xi.inverse() * Xj;  // scan j into scan i's frame
+        VertexMatrix Q(Eigen::Index(e.rows.size()), 3);
+        for (std::size_t n = 0; n < e.rows.size(); ++n) Q.row(Eigen::Index(n)) = points[e.j].row(e.rows[n]);
+        const VertexMatrix moved = (Q * relative.topLeftCorner<3, 3>().transpose()).rowwise() +
+                                   relative.topRightCorner<3, 1>().transpose();
+        const points::KnnResult nearest = trees[e.i].query(moved, 1);
+        Eigen::Matrix<double, 6, 6> Hii = Eigen::Matrix<double, 6, 6>::Zero(), Hij = Hii, Hjj = Hii;
+        Eigen::Matrix<double, 6, 1> gi = Eigen::Matrix<double, 6, 1>::Zero(), gj = gi;
+        for (Eigen::Index n = 0; n < Q.rows(); ++n) {
+          if (!(nearest.distances(n, 0) <= overlap)) continue;
+          const Eigen::Index row_i = nearest.indices(n, 0);
+          const Eigen::Vector3d a = Xi.topLeftCorner<3, 3>() * points[e.i].row(row_i).transpose() + Xi.topRightCorner<3, 1>() - c;
+          const Eigen::Vector3d b = Xj.topLeftCorner<3, 3>() * Q.row(n).transpose() + Xj.topRightCorner<3, 1>() - c;
+          if (plane) {  // one residual along the normal at p
+            const Eigen::Vector3d normal = (Xi.topLeftCorner<3, 3>() * unit_normals[e.i].row(row_i).transpose()).normalized();
+            Eigen::Matrix<double, 1, 6> Ji, Jj;
+            Ji << a.cross(normal).transpose(), normal.transpose();
+            Jj << normal.cross(b).transpose(), -normal.transpose();
+            const double r = normal.dot(a - b);
+            Hii.noalias() += Ji.transpose() * Ji, Hij.noalias() += Ji.transpose() * Jj, Hjj.noalias() += Jj.transpose() * Jj;
+            gi.noalias() += Ji.transpose() * r, gj.noalias() += Jj.transpose() * r;
+          } else {
+            Eigen::Matrix<double, 3, 6> Ji, Jj;  // ∂(a − b)/∂(ω, τ) of pose i and of pose j
+            Ji << -skew(a), Eigen::Matrix3d::Identity();
+            Jj << skew(b), -Eigen::Matrix3d::Identity();
+            const Eigen::Vector3d r = a - b;
+            Hii.noalias() += Ji.transpose() * Ji, Hij.noalias() += Ji.transpose() * Jj, Hjj.noalias() += Jj.transpose() * Jj;
+            gi.noalias() += Ji.transpose() * r, gj.noalias() += Jj.transpose() * r;
+          }
+        }
+        if (vi >= 0) H.block<6, 6>(6 * vi, 6 * vi) += Hii, g.segment<6>(6 * vi) += gi;
+        if (vj >= 0) H.block<6, 6>(6 * vj, 6 * vj) += Hjj, g.segment<6>(6 * vj) += gj;
+        if (vi >= 0 && vj >= 0) {
+          H.block<6, 6>(6 * vi, 6 * vj) += Hij;
+          H.block<6, 6>(6 * vj, 6 * vi) += Hij.transpose();
+        }
+      }
+      H.diagonal().array() += 1e-12 * H.trace() + std::numeric_limits<double>::min();
+      const Eigen::VectorXd step = H.ldlt().solve(-g);
+      if (!step.allFinite()) break;
+      double largest_angle = 0.0, largest_move = 0.0;
+      for (std::size_t s = 1; s < k; ++s) {
+        if (variable[s] < 0) continue;
+        const Eigen::Vector3d omega = step.segment<3>(6 * variable[s]), tau = step.segment<3>(6 * variable[s] + 3);
+        Transform D = Transform::Identity();
+        D.topLeftCorner<3, 3>() = detail::rotation_from_vector(omega);
+        D.topRightCorner<3, 1>() = c + tau - D.topLeftCorner<3, 3>() * c;
+        result.transforms[s] = D * result.transforms[s];
+        largest_angle = std::max(largest_angle, omega.norm());
+        largest_move = std::max(largest_move, tau.norm());
+      }
+      ++result.rounds;
+      settled = largest_angle < options.round_tolerance && largest_move < options.round_tolerance * diagonal;
+    }
+    for (std::size_t s = 0; s < k; ++s) {
+      bool ok = reached[s] != 0;
+      for (std::size_t e = 0; e < edges.size(); ++e)
+        if ((edges[e].i == s || edges[e].j == s) && !edge_converged[e]) ok = false;
+      result.scan_converged[s] = ok ? 1 : 0;
+      evaluate(s);
+    }
+    bool all = settled;
+    for (char ok : result.scan_converged) all = all && ok;
+    result.converged = all;
+    progress.report(1.0, "icp_multi");
+    return result;
+  }
+
   std::vector<std::size_t> others;
   for (std::size_t i = 1; i < k; ++i) {  // sequential pass: onto the growing model
     others.push_back(i - 1);
@@ -648,32 +900,7 @@ IcpMultiResult icp_multi(const std::vector<VertexMatrix>& scans, const IcpMultiO
     }
     ++result.rounds;
   }
-  // The first scan's pairs with the others at the final poses (its pose stays): its RMS.
-  {
-    others.clear();
-    for (std::size_t j = 1; j < k; ++j) others.push_back(j);
-    VertexMatrix target, target_normals;
-    union_of(others, target, target_normals);
-    const points::KdTree tree(target);
-    const CoordinateFrame& frame = tree.frame();
-    const Eigen::Matrix3d A = result.transforms[0].topLeftCorner<3, 3>();
-    const Eigen::Vector3d b = result.transforms[0].topRightCorner<3, 1>();
-    const VertexMatrix S = frame.normalize_vertices(VertexMatrix((points[0] * A.transpose()).rowwise() + b.transpose()));
-    VertexMatrix SN;
-    if (options.icp.normal_angle > 0.0) {
-      SN = unit_normals[0] * A.inverse();
-      SN.rowwise().normalize();
-    }
-    const NormalTest test{options.icp.normal_angle > 0.0 ? &SN : nullptr, &target_normals,
-                          std::cos(options.icp.normal_angle)};
-    const double max_squared = options.icp.max_distance > 0.0
-                                   ? std::pow(frame.to_normalized(options.icp.max_distance, 1), 2)
-                                   : std::numeric_limits<double>::infinity();
-    Correspondences c;
-    correspond(tree, S, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), max_squared, options.icp.trim, false, test, c);
-    result.rms[0] = c.inliers > 0 ? frame.to_input(inlier_rms(c), 1, "rms") : std::numeric_limits<double>::infinity();
-    result.inlier_fraction[0] = double(c.inliers) / double(S.rows());
-  }
+  evaluate(0);  // the first scan's pose stays: its RMS with the others at their final poses
   bool all = options.rounds == 0 || still;
   for (std::size_t i = 1; i < k; ++i) all = all && result.scan_converged[i];
   result.converged = all;

@@ -41,7 +41,8 @@ def command_register(args: argparse.Namespace) -> int:
     np.savetxt(args.output, T, fmt="%.17g")
     diagonal = float(np.linalg.norm(target.max(axis=0) - target.min(axis=0)))
     print(f"wrote {args.output}: {args.method} ICP, {result.iterations} iterations, "
-          f"{'converged' if result.converged else 'NOT converged (raise --max-iterations or --tolerance)'}")
+          f"{'converged' if result.converged else 'NOT converged (raise --max-iterations or --tolerance)'} "
+          f"(stop: {result.stop.replace('_', ' ')})")
     print(f"rotation {np.degrees(registration.rotation_angle(T)):.4g} degrees, translation "
           f"{np.linalg.norm(T[:3, 3]):.6g}; RMS {result.rms:.6g} ({100 * result.rms / diagonal:.4g}% of the target's "
           f"diagonal) over {100 * result.inlier_fraction:.4g}% of the source points")

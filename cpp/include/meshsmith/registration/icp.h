@@ -9,6 +9,8 @@
 #include <meshsmith/core/types.h>
 #include <meshsmith/registration/align.h>
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace meshsmith::registration {
@@ -22,11 +24,24 @@ struct IcpOptions {
   IcpMethod method = IcpMethod::point_to_point;
   /// At most this many correspondence/transform iterations (>= 1).
   int max_iterations = 50;
-  /// Converged when one iteration moves the source by less than this: rotation angle in radians
-  /// and translation as a fraction of the target's bounding-box diagonal (> 0); or when the
-  /// pairs repeat those of 2 to 4 iterations earlier (a cycle between pair sets that differ at
-  /// the rejection threshold: no further iteration can improve on it).
+  /// Converged ("tolerance") when one iteration moves the source by less than this: rotation
+  /// angle in radians and translation as a fraction of the target's bounding-box diagonal (> 0).
   double tolerance = 1e-6;
+  /// Converged ("relative_change", Open3D's relative_rmse / relative_fitness, here as true
+  /// relative changes) when, from one iteration to the next, the inlier RMS changes by at most
+  /// relative_rmse of itself and the inlier count by at most relative_fitness of itself (>= 0;
+  /// relative_rmse = 0: this test off).
+  double relative_rmse = 1e-6;
+  double relative_fitness = 1e-6;
+  /// Cycle and stall detection over a window of the last `patience` iterations (0: off, else
+  /// >= 2). Converged ("cycle") when the pairs repeat those of 2 .. patience iterations earlier,
+  /// or the pose comes back to within `tolerance` of one of them; converged ("stalled") when no
+  /// iteration of the last `patience` lowered the least RMS so far by more than relative_rmse of
+  /// it nor raised the most inliers so far by more than relative_fitness of it. Both are an
+  /// oscillation between pair sets that differ at a rejection threshold (trim, max_distance), at
+  /// the noise level: no further iteration improves on it. The result is then the pose of least
+  /// inlier RMS among the last `patience` iterations.
+  int patience = 10;
   /// Pairs farther apart than this (input length units) are outliers; 0: no distance limit.
   double max_distance = 0.0;
   /// Trimmed ICP: only this fraction (0, 1] of the pairs within max_distance, the closest ones,
@@ -52,7 +67,12 @@ struct IcpResult {
   Transform transform;             ///< 4×4, maps the source onto the target (includes `initial`)
   double rms = 0.0;                ///< RMS distance of the inlier pairs at `transform`
   int iterations = 0;              ///< iterations run
-  bool converged = false;          ///< the tolerance was met before max_iterations
+  bool converged = false;          ///< a convergence test was met before max_iterations (see `stop`)
+  /// Why the iterations stopped: converged by "tolerance", "relative_change", "cycle" or
+  /// "stalled" (IcpOptions); not converged: "max_iterations", "lost_pairs" (fewer than 3 pairs,
+  /// 6 for point-to-plane, within max_distance after the first iteration) or "singular" (the
+  /// point-to-plane system had no finite solution).
+  std::string stop;
   double inlier_fraction = 0.0;    ///< inliers / source points at `transform`
   std::vector<double> rms_history; ///< RMS of the inlier pairs at the start of each iteration
   std::vector<char> inliers;       ///< per source point (input rows): 1 if its pair is an inlier at `transform`
@@ -71,7 +91,8 @@ struct IcpResult {
 ///      local: about 30° and a tenth of the size for smooth shapes).
 /// \throw InputError if source or target is empty or holds a NaN/Inf, target_normals has the
 ///        wrong shape or a zero or non-finite row (source_normals too), an option is out of
-///        range (max_iterations < 1, tolerance <= 0, max_distance < 0, trim outside (0, 1],
+///        range (max_iterations < 1, tolerance <= 0, relative_rmse or relative_fitness < 0,
+///        patience 1 or < 0, max_distance < 0, trim outside (0, 1],
 ///        voxel_size < 0, normal_angle outside [0, π/2], normal_neighbours < 3), `initial` is not
 ///        a finite affine transform, fewer than 3 points remain after the voxel reduction, or no
 ///        pair is within max_distance (and normal_angle) at the start. Cancelled through `progress`.
@@ -87,20 +108,37 @@ IcpResult icp(const VertexRef& source, const VertexRef& target, const VertexRef&
 IcpResult icp(const VertexRef& source, const VertexRef& target, const IcpOptions& options = {},
               const Progress& progress = {});
 
+/// How icp_multi() brings the scans into one frame.
+enum class MultiStrategy {
+  growing,     ///< each scan onto the union of the others (a growing model, then refinement rounds)
+  pose_graph,  ///< pairwise ICP between overlapping scans, then a global least squares over the poses
+};
+
 /// Options of icp_multi().
 struct IcpMultiOptions {
+  MultiStrategy strategy = MultiStrategy::growing;
   /// The options of every pairwise registration (its `initial` is ignored: see `initial` below;
   /// its voxel_size reduces each scan once).
   IcpOptions icp;
   /// Start poses, one 4×4 transform per scan (into the common frame), or empty for the identity.
   std::vector<Transform> initial;
-  /// Refinement rounds after the sequential pass (>= 0): each round re-registers every scan but
-  /// the first onto the union of all the others at their current poses.
+  /// growing: refinement rounds after the sequential pass (>= 0): each round re-registers every
+  /// scan but the first onto the union of all the others at their current poses.
+  /// pose_graph: at most this many iterations of the global solve (>= 1 there).
   int rounds = 10;
   /// The rounds stop once no pose moved by more than this in a round: rotation in radians and
   /// translation in diagonals of the largest scan (> 0). The poses settle slowly (each scan's
   /// fit moves the others' targets), so this is coarser than icp.tolerance.
   double round_tolerance = 1e-3;
+  /// pose_graph: scans i < j are an edge of the graph when, after registering scan j onto scan i
+  /// by icp() (from their start poses), at least `min_overlap` (in (0, 1]) of scan j's points lie
+  /// within `overlap_distance` (input units, > 0; 0: 0.5% of the largest scan's diagonal; about
+  /// 2–3 times the noise suits) of scan i; those points are the edge's samples.
+  double overlap_distance = 0.0;
+  double min_overlap = 0.2;
+  /// pose_graph: at most this many correspondences per edge enter the global solve (evenly
+  /// spaced among them, >= 3).
+  int edge_samples = 2000;
 };
 
 /// Result of icp_multi().
@@ -109,12 +147,32 @@ struct IcpMultiResult {
   std::vector<double> rms;              ///< per scan: RMS of its inlier pairs with the union of the others at the end
   std::vector<double> inlier_fraction;  ///< per scan: its inlier pairs / its (reduced) points
   std::vector<char> scan_converged;     ///< per scan: its last registration converged (the first: 1)
-  int rounds = 0;                       ///< refinement rounds run
+  int rounds = 0;                       ///< refinement rounds run (pose_graph: Gauss–Newton iterations)
   bool converged = false;               ///< every registration converged and the last round moved no pose more than round_tolerance
+  /// pose_graph: the edges (i, j), i < j, of the graph, in lexicographic order; growing: empty.
+  std::vector<std::pair<int, int>> edges;
 };
 
-/// Registration of k >= 2 scans into one frame (§2.3.1; the sequential registration to a
-/// growing model of Chen & Medioni 1992, refined by registering each scan to all the others, as
+/// Registration of k >= 2 scans into one frame (§2.3.1).
+///
+/// strategy pose_graph (multi-view registration as a pose graph, after Pulli 1999 and Lu &
+/// Milios 1997): every pair of scans i < j is registered by icp() (scan j onto scan i, from
+/// their start poses; not when icp.max_distance is set and fewer than 6 points of scan j are
+/// within it of scan i at the start); a pair where at least min_overlap of scan j's points then
+/// lie within overlap_distance of scan i (see IcpMultiOptions) is an edge, those points of scan
+/// j (at most edge_samples) its samples. The poses start from the pairwise results composed
+/// along a spanning tree grown from scan 0, then a multi-view ICP refines all of them at once:
+/// each iteration pairs every edge's samples with their closest points in scan i at the
+/// current poses (within overlap_distance), and takes one Gauss–Newton step of
+/// Σ_edges Σ_pairs ‖X_i p − X_j q‖² (point-to-plane: ⟨X_i p − X_j q, n_p⟩²) over the poses
+/// X_1 .. X_{k−1} (X_0 stays), rotations linearised about the centroid of scan 0 (then the exact
+/// rotation); at most `rounds` iterations, until no pose moves by more than round_tolerance.
+/// The error is spread over every loop of the graph at once, not along the order of the
+/// scans. A scan with no path of edges to scan 0 keeps its start pose and is reported
+/// (scan_converged 0, converged false); so is a scan with an edge whose pairwise ICP did not
+/// converge.
+///
+/// strategy growing (the sequential registration to a growing model of Chen & Medioni 1992, refined by registering each scan to all the others, as
 /// in Bergevin et al. 1996 and Pulli 1999). The first scan anchors the frame (its pose stays
 /// `initial[0]`, the identity by default). Sequential pass: scan i (i = 1 .. k−1), from its start
 /// pose, is registered by icp() onto the union of scans 0 .. i−1 at their poses so far (the model
@@ -127,7 +185,8 @@ struct IcpMultiResult {
 /// \pre every pair of consecutive scans in the list (or a scan and the union of the earlier ones)
 ///      overlaps and starts within ICP's reach.
 /// \throw InputError if fewer than 2 scans are given, `initial` has neither 0 nor k entries or a
-///        non-affine entry, rounds < 0, round_tolerance not positive, or as icp() for a scan or the options (naming the scan).
+///        non-affine entry, rounds < 0 (< 1 for pose_graph), round_tolerance not positive,
+///        overlap_distance < 0, min_overlap outside (0, 1], edge_samples < 3, or as icp() for a scan or the options (naming the scan).
 ///        Cancelled through `progress`.
 IcpMultiResult icp_multi(const std::vector<VertexMatrix>& scans, const IcpMultiOptions& options = {},
                          const Progress& progress = {});
