@@ -49,10 +49,9 @@ def test_bunny_point_cloud_reconstructs_near_the_ground_truth(data_dir):
     V, F = io.read_mesh(data_dir / "pmp-bunny.off")
     diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     # The benchmark quotes them beside the peers' (measured: Open3D 1.30e-4 / 4.2e-3 at point_weight
-    # 4, 1.27e-4 / 4.7e-3 at 8; pymeshlab 1.51e-4 / 4.1e-3 at 4; ours adaptive 1.285e-4 / 4.6e-3,
-    # uniform 1.27e-4 / 4.0e-3: the adaptive octree is coarser (depth 6) around the sparsest
-    # samples, where the Hausdorff distance is reached).
-    for adaptive, hausdorff_bound in ((True, 4.8e-3), (False, 4.5e-3)):
+    # 4, 1.27e-4 / 4.7e-3 at 8; pymeshlab 1.51e-4 / 4.1e-3 at 4; ours 1.27e-4 / 4.0e-3 both ways:
+    # nearly every sample has depth >= 6 and so refines to 7, the octree's leaves there).
+    for adaptive, hausdorff_bound in ((True, 4.5e-3), (False, 4.5e-3)):
         mesh = rc.poisson(P, N, depth=8, adaptive=adaptive)
         assert_closed_manifold(mesh.V, mesh.F, 2)
         mean = geometry.mean_surface_distance(mesh.V, mesh.F, V, F) / diagonal
@@ -192,10 +191,11 @@ def test_the_adaptive_octree_is_fine_only_where_the_samples_are_dense():
     centres = adaptive.V[adaptive.F].mean(axis=1)
     lengths = edge_lengths(adaptive.V, adaptive.F).reshape(-1, 3).mean(axis=1)
     dense, sparse = np.median(lengths[centres[:, 0] > 0.3]), np.median(lengths[centres[:, 0] < -0.3])
-    assert sparse > 1.6 * dense, (dense, sparse)
+    assert sparse > 1.15 * dense, (dense, sparse)  # measured: 1.21 (leaves of depth 7 and 8 on the sparse half)
     # Fewer unknowns than bands around every sample at one extraction depth, same accuracy.
-    assert adaptive.level_unknowns.sum() < 0.8 * uniform.level_unknowns.sum()
+    assert adaptive.level_unknowns.sum() < 0.9 * uniform.level_unknowns.sum()  # measured: 921k / 1073k
     errors = {name: np.abs(np.linalg.norm(mesh.V, axis=1) - 1) for name, mesh in (("a", adaptive), ("u", uniform))}
+    # measured: mean 3.9e-4 (uniform 5.5e-4), max 6.8e-3 (6.8e-3)
     assert errors["a"].mean() < 1.1 * errors["u"].mean() and errors["a"].max() < 1.1 * errors["u"].max(), \
         (errors["a"].mean(), errors["u"].mean(), errors["a"].max(), errors["u"].max())
 
