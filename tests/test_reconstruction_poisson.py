@@ -102,6 +102,9 @@ def test_the_result_does_not_depend_on_the_thread_count():
     for threads in (1, 2):
         again = rc.poisson(P, N, depth=6, threads=threads)
         assert hashlib.sha256(again.V.tobytes() + again.F.tobytes() + again.density.tobytes()).hexdigest() == digest
+    adaptive = [rc.poisson(P, N, depth=6, adaptive=True, threads=threads) for threads in (1, 2, None)]
+    assert all(np.array_equal(m.V, adaptive[0].V) and np.array_equal(m.F, adaptive[0].F) and
+               np.array_equal(m.density, adaptive[0].density) for m in adaptive[1:])
 
 
 def test_density_marks_the_unsampled_cap_and_trimming_removes_it():
@@ -159,7 +162,7 @@ def test_bad_input_is_an_input_error():
     with pytest.raises(meshsmith.InputError, match="band_refinement"):
         rc.poisson(P, N, band_refinement=11)
     with pytest.raises(meshsmith.InputError, match="adaptive = false"):
-        rc.poisson(P, N, depth=6, band_refinement=1)
+        rc.poisson(P, N, depth=6, band_refinement=1, adaptive=True)
     with pytest.raises(meshsmith.InputError, match="threads"):
         rc.poisson(P, N, threads=0)
     V, F = datasets.icosphere(1)
@@ -182,8 +185,8 @@ def edge_lengths(V, F):
 
 def test_the_adaptive_octree_is_fine_only_where_the_samples_are_dense():
     P, N = half_dense_sphere(7)
-    adaptive = rc.poisson(P, N, depth=8)
-    uniform = rc.poisson(P, N, depth=8, adaptive=False)
+    adaptive = rc.poisson(P, N, depth=8, adaptive=True)
+    uniform = rc.poisson(P, N, depth=8)
     # Cells of different sizes meet along x = 0 without cracks: one closed oriented 2-manifold.
     assert_closed_manifold(adaptive.V, adaptive.F, 2)
     assert_closed_manifold(uniform.V, uniform.F, 2)
@@ -204,7 +207,7 @@ def test_adaptive_leaves_of_several_depths_close_a_torus():
     V, F = datasets.torus()
     P, N = datasets.sample_points(V, F, 30000, seed=8, noise=0.05)
     keep = (P[:, 1] > 0) | (np.arange(len(P)) % 8 == 0)
-    mesh = rc.poisson(P[keep], N[keep], depth=7)
+    mesh = rc.poisson(P[keep], N[keep], depth=7, adaptive=True)
     assert_closed_manifold(mesh.V, mesh.F, 0)
     diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     assert geometry.mean_surface_distance(mesh.V, mesh.F, V, F) < 2e-3 * diagonal

@@ -174,7 +174,7 @@ void bind_reconstruction(py::module_& m) {
   }, py::arg("P"), py::arg("N"), py::arg("depth"), py::arg("screening"), py::arg("samples_per_node"), py::arg("scale"),
      py::arg("coarse_depth"), py::arg("band"), py::arg("refinement"), py::arg("max_iterations"), py::arg("tolerance"),
      py::arg("extraction_depth") = py::none(), py::arg("band_refinement") = 0, py::arg("threads") = py::none(),
-     py::arg("adaptive") = true, py::arg("progress") = py::none());
+     py::arg("adaptive") = false, py::arg("progress") = py::none());
 }
 
 }  // namespace meshsmith::python

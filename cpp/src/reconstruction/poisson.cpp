@@ -687,8 +687,9 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
           break;
         }
   }
-  // The levels: coarsest to extraction depth + band_refinement (at most the finest). A sample's
-  // blocks are in the band of every level up to the extraction depth, and of the deeper ones
+  // The levels: coarsest to extraction depth + band_refinement (at most the finest). Uniform
+  // (adaptive = false): a sample's blocks are in the band of every level up to the extraction
+  // depth, and of the deeper ones
   // that its own depth reaches (an adaptive refinement; measured on pmp-bunny.xyz at depth 8,
   // extraction depth 7: solving level 8 around the 37% of samples of depth 8 took 50% longer
   // and made the mean distance to the ground truth 1.6e-4 instead of 1.4e-4 × diagonal, as the
@@ -697,9 +698,7 @@ PoissonResult poisson(const VertexRef& P, const VertexRef& N, const PoissonOptio
   // only (at most e), so the octree is as deep as e only where the samples are dense enough,
   // coarser where they are sparser. (Up to its own depth only, measured on armadillo_low.xyz at
   // depth 8: mean distance from the samples to the mesh 3.95e-4 × diagonal instead of 3.01e-4
-  // with every sample refined to e = 7; Open3D 3.23e-4.) (Beyond e, measured on pmp-bunny.xyz at depth 8 with extraction_depth = 8:
-  // 2.7× the vertices of e = 7 and of the peers' meshes, for a mean distance to the ground truth
-  // of 1.32e-4 instead of 1.27e-4 × diagonal.)
+  // with every sample refined to e = 7; Open3D 3.23e-4.)
   auto in_band = [&](Int s, int d) {
     if (options.adaptive) return d <= extract && sample_depth[static_cast<std::size_t>(s)] + 1 >= d;
     return d <= extract || sample_depth[static_cast<std::size_t>(s)] >= d;
