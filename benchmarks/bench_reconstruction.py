@@ -8,7 +8,10 @@ Open3D's create_from_point_cloud_poisson and pymeshlab's screened Poisson (both 
 at the same depth (ours at its default screening 8, the peers at point weight 4, Open3D also at
 8), ours and Open3D with all cores and on one thread, pymeshlab on one thread, with each
 output's vertex count and mean and Hausdorff distance to the ground truth pmp-bunny.off ÷ its
-bounding-box diagonal (armadillo: the samples' mean and max distance to the mesh).
+bounding-box diagonal (armadillo: the samples' mean and max distance to the mesh); ours also with
+adaptive=True (the locally adaptive octree, extracted on its leaves), with both modes' unknowns per
+level; and the same on 120k noisy samples of armadillo.obj (40k quick) thinned to one in ten on
+x < the median x (dense on one half, sparse on the other), against armadillo.obj.
 Max-flow (Boykov–Kolmogorov, ours) on a 3D 6-connected grid graph of 64³ nodes (32³ quick) with
 random capacities beside PyMaxflow (Kolmogorov's own maxflow-v3 code) and scipy's
 csgraph.maximum_flow (Dinic, integer capacities); graph-cut reconstruction of pmp-bunny.xyz
@@ -17,7 +20,7 @@ oriented route), with the distance of each to pmp-bunny.off ÷ diagonal.
 
 Result checks: the marching-cubes vertex set equals libigl's (count, and every vertex within 1e-12
 of one of libigl's); |signed distance| equals libigl's to 1e-12, the sign agrees wherever the
-exact winding number is 5e-3 away from 1/2 (on the first 5000 queries); Poisson's output is closed and edge-manifold,
+exact winding number is 5e-3 away from 1/2 (on the first 5000 queries); Poisson's outputs (both modes) are closed oriented manifolds,
 the same on one thread as on all, its mean distance ÷ diagonal no worse than each peer's, its vertex count within 1.5× of
 each peer's (the ratios are the checks' values).
 """
