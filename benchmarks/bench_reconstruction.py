@@ -8,7 +8,10 @@ Open3D's create_from_point_cloud_poisson and pymeshlab's screened Poisson (both 
 at the same depth (ours at its default screening 8, the peers at point weight 4, Open3D also at
 8), ours and Open3D with all cores and on one thread, pymeshlab on one thread, with each
 output's vertex count and mean and Hausdorff distance to the ground truth pmp-bunny.off ÷ its
-bounding-box diagonal (armadillo: the samples' mean and max distance to the mesh).
+bounding-box diagonal (armadillo: the samples' mean and max distance to the mesh); ours also with
+adaptive=True (the locally adaptive octree, extracted on its leaves), with both modes' unknowns per
+level; and the same on 120k noisy samples of armadillo.obj (40k quick) thinned to one in ten on
+x < the median x (dense on one half, sparse on the other), against armadillo.obj.
 Max-flow (Boykov–Kolmogorov, ours) on a 3D 6-connected grid graph of 64³ nodes (32³ quick) with
 random capacities beside PyMaxflow (Kolmogorov's own maxflow-v3 code) and scipy's
 csgraph.maximum_flow (Dinic, integer capacities); graph-cut reconstruction of pmp-bunny.xyz
@@ -17,7 +20,7 @@ oriented route), with the distance of each to pmp-bunny.off ÷ diagonal.
 
 Result checks: the marching-cubes vertex set equals libigl's (count, and every vertex within 1e-12
 of one of libigl's); |signed distance| equals libigl's to 1e-12, the sign agrees wherever the
-exact winding number is 5e-3 away from 1/2 (on the first 5000 queries); Poisson's output is closed and edge-manifold,
+exact winding number is 5e-3 away from 1/2 (on the first 5000 queries); Poisson's outputs (both modes) are closed oriented manifolds,
 the same on one thread as on all, its mean distance ÷ diagonal no worse than each peer's, its vertex count within 1.5× of
 each peer's (the ratios are the checks' values).
 """
@@ -33,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from harness import Benchmark, check, optional, shared_data_dir, size  # noqa: E402
 
 import meshsmith  # noqa: E402
-from meshsmith import geometry, io, reconstruction as rc, topology  # noqa: E402
+from meshsmith import datasets, geometry, io, reconstruction as rc, topology  # noqa: E402
 
 igl = optional("igl")
 measure = optional("skimage.measure")
@@ -123,30 +126,49 @@ POISSON_CLOUDS = (("pmp-bunny.xyz", "pmp-bunny.off"), ("armadillo_low.xyz", None
 
 
 def poisson_case() -> None:
-    for cloud, truth in POISSON_CLOUDS:
-        poisson_cloud_case(cloud, truth)
-
-
-def poisson_cloud_case(cloud: str, truth: str | None) -> None:
-    """Ours (default screening 8), Open3D and pymeshlab (point weight 4, PoissonRecon's default) on
-    one point cloud at the same depth, ours and Open3D each with all cores and on one thread (ours:
-    threads=1; Open3D: n_threads=1), pymeshlab on one thread (threads=1; its all-core run,
-    threads=2, is left out: it took 367 s on the bunny beside 26.9 s on one thread in a run of
-    this file at load average 11-15, 2026-12-01 23:23 UTC, and 114 s beside 13.5 s at load 19 in
-    another, its OpenMP threads contending on the two crowded cores), and Open3D at point weight 8
-    (the nominal value of ours, its best in a sweep of 2, 4, 8, 16 on the bunny; shown, not checked). Distances ÷ diagonal to the ground-truth
-    mesh, or for a cloud without one in the same frame (armadillo_low.xyz), from the samples to
-    each mesh (one-sided: mean and max)."""
     data = shared_data_dir()
-    if data is None or not (data / cloud).exists():
-        print(f"reconstruction: Poisson on {cloud} skipped (shared data missing)")
+    for cloud, truth in POISSON_CLOUDS:
+        if data is None or not (data / cloud).exists():
+            print(f"reconstruction: Poisson on {cloud} skipped (shared data missing)")
+            continue
+        P, N = io.read_points(data / cloud)
+        poisson_cloud_case(cloud, P, N, io.read_mesh(data / truth) if truth else None, truth)
+    if data is None or not (data / "armadillo.obj").exists():
+        print("reconstruction: Poisson on non-uniform armadillo samples skipped (shared data missing)")
         return
-    P, N = io.read_points(data / cloud)
+    V, F = io.read_mesh(data / "armadillo.obj")
+    P, N = half_dense_samples(V, F, size(120_000, 40_000))
+    poisson_cloud_case("armadillo.obj samples, dense on x > 0, 10× sparser on x < 0, noise 0.1 edge", P, N,
+                       (V, F), "armadillo.obj")
+
+
+def half_dense_samples(V, F, n, seed=0):
+    """n samples of the mesh (V, F) with noise 0.1 × the mean edge length, of which those on x <
+    the median x are thinned to one in ten: dense on one half of the surface, sparse on the other."""
+    P, N = datasets.sample_points(V, F, n, seed=seed, noise=0.1)
+    keep = (P[:, 0] > np.median(V[:, 0])) | (np.arange(n) % 10 == 0)
+    return P[keep], N[keep]
+
+
+def poisson_cloud_case(cloud: str, P, N, truth_mesh, truth: str | None) -> None:
+    """Ours (default screening 8; the default adaptive=False, bands around every sample up to one
+    extraction depth, and as a second row adaptive=True, the locally adaptive octree extracted on
+    its leaves), Open3D and pymeshlab (point weight 4,
+    PoissonRecon's default) on one point cloud at the same depth, ours and Open3D each with all
+    cores and on one thread (ours: threads=1; Open3D: n_threads=1), pymeshlab on one thread
+    (threads=1; its all-core run, threads=2, is left out: it took 367 s on the bunny beside 26.9 s
+    on one thread in a run of this file at load average 11-15, 2026-12-01 23:23 UTC, and 114 s
+    beside 13.5 s at load 19 in another, its OpenMP threads contending on the two crowded cores),
+    and Open3D at point weight 8 (the nominal value of ours, its best in a sweep of 2, 4, 8, 16 on
+    the bunny; shown, not checked). Distances ÷ diagonal to the ground-truth mesh, or for a cloud
+    without one in the same frame (armadillo_low.xyz), from the samples to each mesh (one-sided:
+    mean and max)."""
     depth = size(8, 7)
     bench = Benchmark("reconstruction", f"screened Poisson, {cloud} ({len(P) // 1000}k points), depth {depth}",
                       repeats=3)
     bench.time("meshsmith", lambda: rc.poisson(P, N, depth=depth))
     bench.time("meshsmith, 1 thread", lambda: rc.poisson(P, N, depth=depth, threads=1))
+    bench.time("meshsmith adaptive=True", lambda: rc.poisson(P, N, depth=depth, adaptive=True))
     if o3d:
         points = o3d.geometry.PointCloud()
         points.points = o3d.utility.Vector3dVector(P)
@@ -166,13 +188,15 @@ def poisson_cloud_case(cloud: str, truth: str | None) -> None:
         bench.time("pymeshlab screened Poisson, 1 thread", lambda: meshlab(1))
     bench.report()
     ours = bench.output("meshsmith")
-    closed = topology.is_manifold(ours.F) and not topology.boundary_loops(ours.F)
-    bench.check("meshsmith output not a closed edge-manifold", 0 if closed else 1, 0)
+    adaptive = bench.output("meshsmith adaptive=True")
+    for label, mesh in (("meshsmith", ours), ("meshsmith adaptive=True", adaptive)):
+        closed = topology.is_manifold(mesh.F) and topology.is_oriented(mesh.F) and not topology.boundary_loops(mesh.F)
+        bench.check(f"{label} output not a closed oriented manifold", 0 if closed else 1, 0)
     single = bench.output("meshsmith, 1 thread")
     bench.check("meshsmith vertices differing between all cores and 1 thread",
                 0 if np.array_equal(ours.V, single.V) and np.array_equal(ours.F, single.F) else 1, 0)
-    if truth is not None:
-        V_true, F_true = io.read_mesh(data / truth)
+    if truth_mesh is not None:
+        V_true, F_true = truth_mesh
         diagonal = float(np.linalg.norm(V_true.max(axis=0) - V_true.min(axis=0)))
         errors = lambda V, F: surface_errors(V, F, V_true, F_true, diagonal)  # noqa: E731
         what = f"distance to {truth} ÷ diagonal"
@@ -193,15 +217,17 @@ def poisson_cloud_case(cloud: str, truth: str | None) -> None:
         V, F = bench.output("pymeshlab screened Poisson, 1 thread")
         rows.append(("pymeshlab", len(V), *errors(V, F)))
     print(f"  {what}:")
-    shown = rows
+    shown = rows[:1] + [("adaptive", len(adaptive.V), *errors(adaptive.V, adaptive.F))] + rows[1:]
     if o3d:
         mesh = bench.output("Open3D create_from_point_cloud_poisson, point weight 8, 1 thread")[0]
         V, F = np.asarray(mesh.vertices), np.asarray(mesh.triangles)
-        shown = rows + [("Open3D pw 8", len(V), *errors(V, F))]
+        shown = shown + [("Open3D pw 8", len(V), *errors(V, F))]
     for name, count, m, hd in shown:
         print(f"    {name:11s} {count:7d} vertices  mean {m:.2e}  {'Hausdorff' if truth else 'max'} {hd:.2e}")
-    print(f"  meshsmith levels: depths {ours.level_depths.tolist()}, unknowns {ours.level_unknowns.tolist()}, "
-          f"iterations {ours.level_iterations.tolist()}, extraction depth {ours.extraction_depth}")
+    for label, mesh in (("uniform (default)", ours), ("adaptive", adaptive)):
+        print(f"  meshsmith {label} levels: depths {mesh.level_depths.tolist()}, unknowns {mesh.level_unknowns.tolist()} "
+              f"(total {int(mesh.level_unknowns.sum())}), iterations {mesh.level_iterations.tolist()}, "
+              f"deepest extraction depth {mesh.extraction_depth}")
     for name, count, m, _ in rows[1:]:
         peer_means.append(m)
         bench.check(f"meshsmith mean distance ÷ {name}'s", rows[0][2] / m, 1.0)

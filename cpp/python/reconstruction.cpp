@@ -127,7 +127,7 @@ void bind_reconstruction(py::module_& m) {
                       double samples_per_node, double scale, const py::object& coarse_depth, const py::object& band,
                       const py::object& refinement, const py::object& max_iterations, double tolerance,
                       const py::object& extraction_depth, const py::object& band_refinement, const py::object& threads,
-                      const py::object& callback) {
+                      bool adaptive, const py::object& callback) {
     auto samples = as_real_matrix(P, "P", 3);
     auto normals = as_real_matrix(N, "N", 3);
     reconstruction::PoissonOptions options;
@@ -142,6 +142,7 @@ void bind_reconstruction(py::module_& m) {
     options.tolerance = tolerance;
     options.extraction_depth = extraction_depth.is_none() ? 0 : integer_argument<int>(extraction_depth, "extraction_depth", 2, 10);
     options.band_refinement = integer_argument<int>(band_refinement, "band_refinement", 0, 10);
+    options.adaptive = adaptive;
     const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
     Progress progress = make_progress(callback);
     auto result = without_gil([&] {
@@ -173,7 +174,7 @@ void bind_reconstruction(py::module_& m) {
   }, py::arg("P"), py::arg("N"), py::arg("depth"), py::arg("screening"), py::arg("samples_per_node"), py::arg("scale"),
      py::arg("coarse_depth"), py::arg("band"), py::arg("refinement"), py::arg("max_iterations"), py::arg("tolerance"),
      py::arg("extraction_depth") = py::none(), py::arg("band_refinement") = 0, py::arg("threads") = py::none(),
-     py::arg("progress") = py::none());
+     py::arg("adaptive") = false, py::arg("progress") = py::none());
 }
 
 }  // namespace meshsmith::python
