@@ -254,11 +254,10 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
     }
     return target;
   };
-  const auto route = [&](int x, bool ascending, int id) {
-    const int target = blocking_target(x, ascending, id);
-    std::vector<int> path = route_to(x, ascending, id, target, true);
-    // Last resort: through other saddles' reserved first steps (they then pick none).
-    return path.empty() ? route_to(x, ascending, id, target, false) : path;
+  // Through free vertices; with `steal`, also through other saddles' reserved first steps (the
+  // last resort: a saddle whose step is taken then starts from another vertex of that wedge).
+  const auto route = [&](int x, bool ascending, int id, bool steal) {
+    return route_to(x, ascending, id, blocking_target(x, ascending, id), !steal);
   };
   // Through the gaps (with `split`): Dijkstra over free vertices and the midpoints of splittable
   // edges (no line's edge, none at a saddle, not both ends free); a midpoint neighbours the
@@ -440,6 +439,23 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
       const int id = static_cast<int>(C.lines.size());
       std::vector<int> line{s};
       int y = first >= 0 && owner[first] < 0 ? first : -1;
+      if (y < 0 && first >= 0) {
+        // The wedge's reserved step was taken (by a last-resort route): its steepest free vertex.
+        const int* r = rings.begin(s);
+        const int d = rings.size(s);
+        int at = 0;
+        while (at < d && r[at] != first) ++at;
+        double best_slope = -1.0;
+        for (const int direction : {1, -1}) {
+          for (int k = direction; std::abs(k) < d; k += direction) {
+            const int v = r[((at + k) % d + d) % d];
+            if (above(f, v, s) != up) break;
+            if (owner[v] >= 0 || reserved[v] >= 0 || C.vertex_type[v] != static_cast<int>(CriticalType::regular)) continue;
+            const double slope = std::abs(f[v] - f[s]) / std::max((S.V.row(v) - S.V.row(s)).norm(), 1e-300);
+            if (slope > best_slope) best_slope = slope, y = v;
+          }
+        }
+      }
       while (y >= 0) {
         line.push_back(y);
         if (is(y, up ? CriticalType::maximum : CriticalType::minimum)) break;
@@ -450,12 +466,13 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
           // valleys and on ridges. Continue beside it instead: the shortest path through free
           // vertices to the extremum that line ends at.
           // From the line's end, or, when that is walled in, from earlier along it (backtracking).
-          std::vector<int> detour = route(line.back(), up, id);
+          std::vector<int> detour = route(line.back(), up, id, false);
           if (detour.empty() && split) detour = route_through_gaps(line, up, blocking_target(line.back(), up, id));
+          if (detour.empty()) detour = route(line.back(), up, id, true);
           while (detour.empty() && line.size() > 2) {
             owner[line.back()] = -1;
             line.pop_back();
-            detour = route(line.back(), up, id);
+            detour = route(line.back(), up, id, true);
           }
           for (std::size_t k = 0; k + 1 < detour.size(); ++k) line.push_back(detour[k]), owner[detour[k]] = id;
           if (!detour.empty()) line.push_back(detour.back());
@@ -1130,7 +1147,22 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
       }
       stuck = any_stuck;
       if (C.complete()) {
-        SpectralQuadrangulation out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
+        SpectralQuadrangulation out;
+        try {
+          out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
+        } catch (const SolverError& error) {  // a folded map: the next candidate
+          last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
+          break;
+        }
+        // Grid nodes that coincide (a degenerate map) make this candidate fail.
+        bool degenerate = false;
+        for (Eigen::Index q = 0; q < out.Q.rows() && !degenerate; ++q)
+          for (int c = 0; c < 4 && !degenerate; ++c)
+            degenerate = !((out.V.row(out.Q(q, c)) - out.V.row(out.Q(q, (c + 1) % 4))).squaredNorm() > 0.0);
+        if (degenerate) {
+          last_problem = "eigenvector " + std::to_string(index) + ": two grid nodes of a cell coincide";
+          break;
+        }
         out.V = normalized.frame.vertices_to_input(out.V, "spectral_quadrangulate: vertex");
         out.eigenvector = index;
         out.eigenvalue = eigen.values[index];
