@@ -1154,11 +1154,12 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
           last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
           break;
         }
-        // Grid nodes that coincide (a degenerate map) make this candidate fail.
+        // Grid nodes that coincide (a degenerate map; 1e-12 of the unit-diagonal frame) make this
+        // candidate fail.
         bool degenerate = false;
         for (Eigen::Index q = 0; q < out.Q.rows() && !degenerate; ++q)
           for (int c = 0; c < 4 && !degenerate; ++c)
-            degenerate = !((out.V.row(out.Q(q, c)) - out.V.row(out.Q(q, (c + 1) % 4))).squaredNorm() > 0.0);
+            degenerate = !((out.V.row(out.Q(q, c)) - out.V.row(out.Q(q, (c + 1) % 4))).squaredNorm() > 1e-24);
         if (degenerate) {
           last_problem = "eigenvector " + std::to_string(index) + ": two grid nodes of a cell coincide";
           break;

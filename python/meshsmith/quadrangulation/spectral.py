@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _arguments
+from .._core import InputError
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
@@ -165,7 +166,7 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     index (>= 1) instead, overriding target_patches. relax: at most this many rounds of moving
     the corners of quads with scaled Jacobian below 0.2 (and their neighbours) to the mean of their
     quad-edge neighbours and back onto the surface, the best round kept (as
-    :func:`quadrangulate` does; 0: none). progress: optional callback
+    :func:`quadrangulate` does; 0: none; skipped when a round collapses a quad edge). progress: optional callback
     (fraction, stage) -> bool (False cancels).
 
     Returns a :class:`SpectralQuadrangulation` (unpacks as ``V, Q, report``). Raises InputError
@@ -179,7 +180,12 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     quality = quad_quality(Vq, Q)
     inverted_before, relaxed = int((quality.scaled_jacobian <= 0).sum()), 0
     if relax and quality.scaled_jacobian.min() < RELAX_BELOW:
-        Vq, relaxed = _relax(Vq, Q, V, F, relax)
+        try:
+            Vq, relaxed = _relax(Vq, Q, V, F, relax)
+        except InputError:
+            # a round projected two corners of a quad onto one surface point (quad_quality then
+            # rejects the zero-length edge): the grids are kept as extracted
+            relaxed = 0
         quality = quad_quality(Vq, Q)
     deviation = np.abs(quality.angles - 90.0)
     report = SpectralQuadrangulationReport(
