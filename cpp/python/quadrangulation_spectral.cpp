@@ -69,9 +69,13 @@ void bind_quadrangulation_spectral(py::module_& m) {
     out["minima"] = r.minima;
     out["saddles"] = r.saddles;
     out["multi_saddles"] = r.multi_saddles;
+    out["saddle_vertices"] = r.saddle_vertices;
     out["refinements"] = r.refinements;
     out["detours"] = r.detours;
+    out["gap_routes"] = r.gap_routes;
     out["candidates_tried"] = r.candidates_tried;
+    out["cancelled_extrema"] = r.cancelled_extrema;
+    out["simplification_rounds"] = r.simplification_rounds;
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("target_faces") = py::none(), py::arg("target_patches") = py::none(),
      py::arg("eigenvector") = py::none(), py::arg("progress") = py::none(),

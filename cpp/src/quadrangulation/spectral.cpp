@@ -118,11 +118,51 @@ inline EdgeKey edge_key(int a, int b) {
 
 void build_cells(const Surface& S, MorseSmaleComplex& C);
 
+/// Faces around each vertex (for edge splits).
+std::vector<std::vector<int>> faces_of_vertices(const FaceMatrix& F, Eigen::Index n) {
+  std::vector<std::vector<int>> vertex_faces(n);
+  for (Eigen::Index face = 0; face < F.rows(); ++face)
+    for (int k = 0; k < 3; ++k) vertex_faces[F(face, k)].push_back(static_cast<int>(face));
+  return vertex_faces;
+}
+
+/// Splits edge (a, b) at its midpoint, f interpolated linearly, each of its two faces into two;
+/// returns the new vertex. The new vertex is regular and no other vertex changes type (its value
+/// lies between those of a and b, which it separates in every ring it joins).
+int split_edge(Surface& S, std::vector<std::vector<int>>& vertex_faces, int a, int b) {
+  const int m = static_cast<int>(S.V.rows());
+  S.V.conservativeResize(m + 1, 3);
+  S.V.row(m) = 0.5 * (S.V.row(a) + S.V.row(b));
+  S.f.conservativeResize(m + 1);
+  S.f[m] = 0.5 * (S.f[a] + S.f[b]);
+  vertex_faces.emplace_back();
+  const std::vector<int> around = vertex_faces[a];
+  for (const int face : around) {
+    int k = 0;
+    while (k < 3 && !((S.F(face, k) == a && S.F(face, (k + 1) % 3) == b) || (S.F(face, k) == b && S.F(face, (k + 1) % 3) == a))) ++k;
+    if (k == 3) continue;
+    const int u = S.F(face, k), w = S.F(face, (k + 1) % 3), c = S.F(face, (k + 2) % 3);
+    const int g = static_cast<int>(S.F.rows());
+    S.F.conservativeResize(g + 1, 3);
+    S.F.row(face) << u, m, c;
+    S.F.row(g) << m, w, c;
+    std::replace(vertex_faces[w].begin(), vertex_faces[w].end(), face, g);
+    vertex_faces[c].push_back(g);
+    vertex_faces[m].push_back(face);
+    vertex_faces[m].push_back(g);
+  }
+  return m;
+}
+
 /// Traces the complex's lines; `stuck` says a line found no admissible step (refinement may
 /// help). The cells follow (build_cells) unless the lines are incomplete.
-MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuck, int order = 0) {
+/// With `split` (S is then refined in place: the complex refers to the refined mesh), a line walled
+/// in by others goes on through the gaps between them: a shortest path that may run through the
+/// midpoints of mesh edges joining two lines (or a line and an extremum), which are then split.
+MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& stuck, int order = 0, bool split = false) {
   const Eigen::VectorXd& f = S.f;
-  const int n = static_cast<int>(S.V.rows());
+  int n = static_cast<int>(S.V.rows());
+  Rings rings = initial_rings;
   MorseSmaleComplex C;
   classify(rings, f, C.vertex_type, C.saddle_multiplicity);
   const auto is = [&](int v, CriticalType t) { return C.vertex_type[v] == static_cast<int>(t); };
@@ -202,7 +242,8 @@ MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuc
     for (const int v : touched) distance[v] = std::numeric_limits<double>::infinity(), from[v] = -1;
     return path;
   };
-  const auto route = [&](int x, bool ascending, int id) {
+  // The extremum of the steepest line blocking x's way (−1: none).
+  const auto blocking_target = [&](int x, bool ascending, int id) {
     int target = -1;
     double best_slope = -1.0;
     for (int j = 0; j < rings.size(x); ++j) {
@@ -211,9 +252,143 @@ MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuc
       const double slope = std::abs(f[y] - f[x]) / std::max((S.V.row(y) - S.V.row(x)).norm(), 1e-300);
       if (slope > best_slope) best_slope = slope, target = C.lines[owner[y]].back();
     }
-    std::vector<int> path = route_to(x, ascending, id, target, true);
-    // Last resort: through other saddles' reserved first steps (they then pick none).
-    return path.empty() ? route_to(x, ascending, id, target, false) : path;
+    return target;
+  };
+  // Through free vertices; with `steal`, also through other saddles' reserved first steps (the
+  // last resort: a saddle whose step is taken then starts from another vertex of that wedge).
+  const auto route = [&](int x, bool ascending, int id, bool steal) {
+    return route_to(x, ascending, id, blocking_target(x, ascending, id), !steal);
+  };
+  // Through the gaps (with `split`): Dijkstra over free vertices and the midpoints of splittable
+  // edges (no line's edge, none at a saddle, not both ends free); a midpoint neighbours the
+  // vertices opposite its edge and the midpoints of the other edges of its faces. The path found
+  // is made real by splitting its edges in order (each then joins its predecessor); the vertices
+  // after x, or empty.
+  std::vector<std::vector<int>> vertex_faces;
+  const auto route_through_gaps = [&](const std::vector<int>& current, bool ascending, int target) -> std::vector<int> {
+    if (!split) return {};
+    if (vertex_faces.empty()) vertex_faces = faces_of_vertices(S.F, n);
+    const int x = current.back();
+    const CriticalType target_type = ascending ? CriticalType::maximum : CriticalType::minimum;
+    std::unordered_map<EdgeKey, char> line_edge;
+    const auto add_line = [&](const std::vector<int>& line) {
+      for (std::size_t k = 0; k + 1 < line.size(); ++k) line_edge[edge_key(line[k], line[k + 1])] = 1;
+    };
+    for (const auto& line : C.lines) add_line(line);
+    add_line(current);
+    const auto admissible = [&](int v, int wanted) {
+      if (is(v, target_type)) return wanted < 0 || v == wanted;
+      return C.vertex_type[v] == static_cast<int>(CriticalType::regular) && owner[v] < 0 && reserved[v] < 0;
+    };
+    const auto splittable = [&](int a, int b) {
+      return !line_edge.count(edge_key(a, b)) && !is(a, CriticalType::saddle) && !is(b, CriticalType::saddle) &&
+             !(admissible(a, target) && admissible(b, target)) && a != x && b != x;
+    };
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const int wanted = attempt == 0 ? target : -1;
+      if (attempt == 1 && target < 0) break;
+      // Nodes: vertices, then midpoints (their edges in `ends`).
+      std::unordered_map<EdgeKey, int> midpoint;
+      std::vector<std::pair<int, int>> ends;
+      std::unordered_map<int, double> dist;
+      std::unordered_map<int, int> prev;
+      const auto position = [&](int node) -> Eigen::RowVector3d {
+        if (node < n) return S.V.row(node);
+        const auto [a, b] = ends[node - n];
+        return 0.5 * (S.V.row(a) + S.V.row(b));
+      };
+      const auto node_of_edge = [&](int a, int b) {
+        const auto [it, inserted] = midpoint.emplace(edge_key(a, b), n + static_cast<int>(ends.size()));
+        if (inserted) ends.emplace_back(std::min(a, b), std::max(a, b));
+        return it->second;
+      };
+      using Item = std::pair<double, int>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+      dist[x] = 0.0;
+      heap.push({0.0, x});
+      int reached = -1;
+      std::vector<int> around;
+      while (!heap.empty() && dist.size() < 400000) {
+        const auto [d, node] = heap.top();
+        heap.pop();
+        if (d > dist[node]) continue;
+        if (node < n && node != x && is(node, target_type)) {
+          reached = node;
+          break;
+        }
+        around.clear();
+        const auto faces_with = [&](int a, int b, std::vector<int>& out) {
+          out.clear();
+          for (const int face : vertex_faces[a])
+            for (int k = 0; k < 3; ++k)
+              if (S.F(face, k) == b) out.push_back(face);
+        };
+        std::vector<int> faces;
+        if (node < n) {
+          faces = vertex_faces[node];
+        } else {
+          faces_with(ends[node - n].first, ends[node - n].second, faces);
+        }
+        const auto relax_to = [&](int next, double extra) {
+          const double dn = d + (position(next) - position(node)).norm() + extra;
+          const auto it = dist.find(next);
+          if (it == dist.end() || dn < it->second) {
+            dist[next] = dn;
+            prev[next] = node;
+            heap.push({dn, next});
+          }
+        };
+        for (const int face : faces) {
+          for (int k = 0; k < 3; ++k) {
+            const int a = S.F(face, k), b = S.F(face, (k + 1) % 3), c = S.F(face, (k + 2) % 3);
+            if (node < n) {
+              if (a != node) continue;
+              // neighbours b, c and the midpoint of the opposite edge (b, c)
+              for (const int w : {b, c})
+                if (admissible(w, wanted)) relax_to(w, 0.0);
+              if (splittable(b, c)) relax_to(node_of_edge(b, c), 0.25 * (S.V.row(b) - S.V.row(c)).norm());
+            } else {
+              const auto [p, q] = ends[node - n];
+              if (!((a == p && b == q) || (a == q && b == p))) continue;
+              if (admissible(c, wanted)) relax_to(c, 0.0);
+              for (const int w : {a, b})
+                if (splittable(w, c)) relax_to(node_of_edge(w, c), 0.25 * (S.V.row(w) - S.V.row(c)).norm());
+            }
+          }
+        }
+      }
+      if (reached < 0) continue;
+      std::vector<int> nodes;
+      for (int v = reached; v != x; v = prev.at(v)) nodes.push_back(v);
+      std::reverse(nodes.begin(), nodes.end());
+      // Make it real; every step must then be a mesh edge.
+      std::vector<int> path;
+      for (const int node : nodes) {
+        path.push_back(node < n ? node : split_edge(S, vertex_faces, ends[node - n].first, ends[node - n].second));
+      }
+      const auto adjacent = [&](int a, int b) {
+        for (const int face : vertex_faces[a])
+          for (int k = 0; k < 3; ++k)
+            if (S.F(face, k) == b) return true;
+        return false;
+      };
+      const int added = static_cast<int>(S.V.rows()) - n;
+      n = static_cast<int>(S.V.rows());
+      owner.resize(n, -1);
+      reserved.resize(n, -1);
+      distance.resize(n, std::numeric_limits<double>::infinity());
+      from.resize(n, -1);
+      C.vertex_type.conservativeResize(n);
+      C.saddle_multiplicity.conservativeResize(n);
+      C.vertex_type.tail(added).setZero();
+      C.saddle_multiplicity.tail(added).setZero();
+      rings = one_rings(S.F, n);
+      bool ok = adjacent(x, path.front());
+      for (std::size_t k = 0; ok && k + 1 < path.size(); ++k) ok = adjacent(path[k], path[k + 1]);
+      ++C.gap_routes;
+      return ok ? path : std::vector<int>{};
+    }
+    return {};
   };
   // Every saddle's first step into each wedge is reserved before any line is traced, so a line
   // passing by cannot take a wedge's only vertex. reserved[v]: the saddle whose start v is.
@@ -264,6 +439,23 @@ MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuc
       const int id = static_cast<int>(C.lines.size());
       std::vector<int> line{s};
       int y = first >= 0 && owner[first] < 0 ? first : -1;
+      if (y < 0 && first >= 0) {
+        // The wedge's reserved step was taken (by a last-resort route): its steepest free vertex.
+        const int* r = rings.begin(s);
+        const int d = rings.size(s);
+        int at = 0;
+        while (at < d && r[at] != first) ++at;
+        double best_slope = -1.0;
+        for (const int direction : {1, -1}) {
+          for (int k = direction; std::abs(k) < d; k += direction) {
+            const int v = r[((at + k) % d + d) % d];
+            if (above(f, v, s) != up) break;
+            if (owner[v] >= 0 || reserved[v] >= 0 || C.vertex_type[v] != static_cast<int>(CriticalType::regular)) continue;
+            const double slope = std::abs(f[v] - f[s]) / std::max((S.V.row(v) - S.V.row(s)).norm(), 1e-300);
+            if (slope > best_slope) best_slope = slope, y = v;
+          }
+        }
+      }
       while (y >= 0) {
         line.push_back(y);
         if (is(y, up ? CriticalType::maximum : CriticalType::minimum)) break;
@@ -274,11 +466,13 @@ MorseSmaleComplex trace_complex(const Surface& S, const Rings& rings, bool& stuc
           // valleys and on ridges. Continue beside it instead: the shortest path through free
           // vertices to the extremum that line ends at.
           // From the line's end, or, when that is walled in, from earlier along it (backtracking).
-          std::vector<int> detour = route(line.back(), up, id);
+          std::vector<int> detour = route(line.back(), up, id, false);
+          if (detour.empty() && split) detour = route_through_gaps(line, up, blocking_target(line.back(), up, id));
+          if (detour.empty()) detour = route(line.back(), up, id, true);
           while (detour.empty() && line.size() > 2) {
             owner[line.back()] = -1;
             line.pop_back();
-            detour = route(line.back(), up, id);
+            detour = route(line.back(), up, id, true);
           }
           for (std::size_t k = 0; k + 1 < detour.size(); ++k) line.push_back(detour[k]), owner[detour[k]] = id;
           if (!detour.empty()) line.push_back(detour.back());
@@ -458,9 +652,7 @@ Surface subdivide(const Surface& S) {
 /// Returns the number of splits.
 Eigen::Index split_chords(Surface& S, MorseSmaleComplex& C) {
   const int n = static_cast<int>(S.V.rows());
-  std::vector<std::vector<int>> vertex_faces(n);
-  for (Eigen::Index face = 0; face < S.F.rows(); ++face)
-    for (int k = 0; k < 3; ++k) vertex_faces[S.F(face, k)].push_back(static_cast<int>(face));
+  std::vector<std::vector<int>> vertex_faces = faces_of_vertices(S.F, n);
   std::vector<int> stamp(n, -1), position(n, -1);
   std::vector<std::pair<int, int>> chords;
   for (std::size_t l = 0; l < C.lines.size(); ++l) {
@@ -486,41 +678,13 @@ Eigen::Index split_chords(Surface& S, MorseSmaleComplex& C) {
     return std::binary_search(line_edges.begin(), line_edges.end(), edge_key(c.first, c.second));
   }), chords.end());
   if (chords.empty()) return 0;
-  std::vector<std::array<int, 3>> faces(S.F.rows());
-  for (Eigen::Index face = 0; face < S.F.rows(); ++face) faces[face] = {S.F(face, 0), S.F(face, 1), S.F(face, 2)};
-  std::vector<Eigen::RowVector3d> added;
-  std::vector<double> added_f;
-  for (const auto& [a, b] : chords) {
-    const int m = n + static_cast<int>(added.size());
-    added.push_back(0.5 * (S.V.row(a) + S.V.row(b)));
-    added_f.push_back(0.5 * (S.f[a] + S.f[b]));
-    vertex_faces.emplace_back();
-    const std::vector<int> around = vertex_faces[a];
-    for (const int face : around) {
-      auto& t = faces[face];
-      int k = 0;
-      while (k < 3 && !((t[k] == a && t[(k + 1) % 3] == b) || (t[k] == b && t[(k + 1) % 3] == a))) ++k;
-      if (k == 3) continue;
-      const int u = t[k], w = t[(k + 1) % 3], c = t[(k + 2) % 3];
-      const int g = static_cast<int>(faces.size());
-      t = {u, m, c};
-      faces.push_back({m, w, c});
-      std::replace(vertex_faces[w].begin(), vertex_faces[w].end(), face, g);
-      vertex_faces[c].push_back(g);
-      vertex_faces[m].push_back(face);
-      vertex_faces[m].push_back(g);
-    }
-  }
-  const Eigen::Index total = n + static_cast<Eigen::Index>(added.size());
-  S.V.conservativeResize(total, 3);
-  S.f.conservativeResize(total);
-  for (std::size_t i = 0; i < added.size(); ++i) S.V.row(n + i) = added[i], S.f[n + i] = added_f[i];
-  S.F.resize(faces.size(), 3);
-  for (std::size_t face = 0; face < faces.size(); ++face) S.F.row(face) << faces[face][0], faces[face][1], faces[face][2];
+  for (const auto& [a, b] : chords) split_edge(S, vertex_faces, a, b);
+  const Eigen::Index total = S.V.rows();
+  const Eigen::Index added = total - n;
   C.vertex_type.conservativeResize(total);
   C.saddle_multiplicity.conservativeResize(total);
-  C.vertex_type.tail(added.size()).setZero();
-  C.saddle_multiplicity.tail(added.size()).setZero();
+  C.vertex_type.tail(added).setZero();
+  C.saddle_multiplicity.tail(added).setZero();
   return static_cast<Eigen::Index>(chords.size());
 }
 
@@ -749,6 +913,122 @@ Eigen::Index saddle_count(const Rings& rings, const Eigen::VectorXd& f) {
   return multiplicity.sum();
 }
 
+/// 0-dimensional persistence of the extrema of f (ties broken by index, as `above`): sweeping the
+/// vertices upwards (maxima: downwards), a vertex with no swept neighbour starts a component at
+/// its minimum; where two components meet, the one of the higher minimum dies there, its
+/// persistence |f(meeting vertex) − f(minimum)|. Per vertex: that persistence at minima (maxima),
+/// +∞ at the global one, −1 elsewhere.
+std::vector<double> extremum_persistence(const Rings& rings, const Eigen::VectorXd& f, bool maxima) {
+  const int n = static_cast<int>(f.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return maxima ? above(f, a, b) : above(f, b, a); });
+  std::vector<int> parent(n, -1), oldest(n, -1);
+  std::vector<double> persistence(n, -1.0);
+  std::vector<char> swept(n, 0);
+  for (const int v : order) {
+    swept[v] = 1;
+    parent[v] = v;
+    oldest[v] = v;
+    bool joined = false;
+    for (int j = 0; j < rings.size(v); ++j) {
+      const int u = rings.begin(v)[j];
+      if (!swept[u]) continue;
+      const int ru = find_root(parent, u), rv = find_root(parent, v);
+      if (!joined) {
+        parent[rv] = ru;  // v joins its first swept neighbour's component
+        joined = true;
+        continue;
+      }
+      if (ru == rv) continue;
+      // The younger extremum (swept later) dies at v.
+      const bool u_older = maxima ? above(f, oldest[ru], oldest[rv]) : above(f, oldest[rv], oldest[ru]);
+      const int survivor = u_older ? ru : rv, dying = u_older ? rv : ru;
+      persistence[oldest[dying]] = std::abs(f[v] - f[oldest[dying]]);
+      parent[dying] = survivor;
+    }
+    if (!joined) persistence[v] = std::numeric_limits<double>::infinity();  // a new extremum, until it dies
+  }
+  return persistence;
+}
+
+/// The extrema kept by persistence-based simplification: of each kind those with persistence at
+/// least `threshold` (the global ones always), then of both kinds together the `limit` of highest
+/// persistence (≥ 1 of each kind). Per vertex 1 when kept.
+std::vector<char> persistent_extrema(const Rings& rings, const Eigen::VectorXd& f, double threshold, Eigen::Index limit) {
+  const std::vector<double> up = extremum_persistence(rings, f, true), down = extremum_persistence(rings, f, false);
+  const int n = static_cast<int>(f.size());
+  std::vector<std::pair<double, int>> ranked;
+  std::vector<char> keep(n, 0);
+  for (int v = 0; v < n; ++v) {
+    const double p = std::max(up[v], down[v]);
+    if (std::isinf(p)) keep[v] = 1;
+    else if (p >= threshold) ranked.emplace_back(p, v);
+  }
+  std::sort(ranked.begin(), ranked.end(), std::greater<>());
+  Eigen::Index kept = 2;
+  for (const auto& [p, v] : ranked)
+    if (kept < limit) keep[v] = 1, ++kept;
+  return keep;
+}
+
+/// Topological simplification of f to the extrema in `keep` (Tierny and Pascucci, "Generalized
+/// topological simplification of scalar fields on surfaces", 2012): a sweep upwards from the kept
+/// minima raises every vertex reached below the sweep's level just above it, so that each vertex
+/// but a kept minimum has a lower neighbour; then the same downwards from the kept maxima; repeated
+/// until no other extremum is left (each sweep can create extrema of the other kind). The values
+/// change only in the cancelled extrema's basins. Returns the number of sweep rounds, or −1 when
+/// 12 rounds did not converge (f is then left as it was).
+int simplify_to(const Rings& rings, Eigen::VectorXd& f, const std::vector<char>& keep) {
+  const int n = static_cast<int>(f.size());
+  const double delta = std::max(f.maxCoeff() - f.minCoeff(), 1e-300) * 1e-9;
+  Eigen::VectorXd g = f;
+  std::vector<char> visited(n);
+  Eigen::VectorXi type, multiplicity;
+  const auto extra_extrema = [&] {
+    classify(rings, g, type, multiplicity);
+    int extra = 0;
+    for (int v = 0; v < n; ++v)
+      extra += (type[v] == static_cast<int>(CriticalType::maximum) || type[v] == static_cast<int>(CriticalType::minimum)) &&
+               !keep[v];
+    return extra;
+  };
+  for (int round = 0; round < 12; ++round) {
+    if (extra_extrema() == 0) {
+      f = g;
+      return round;
+    }
+    for (const bool minima : {true, false}) {
+      const CriticalType seed = minima ? CriticalType::minimum : CriticalType::maximum;
+      // A min-heap on (s·g, index), s = +1 for the upward sweep, −1 downwards.
+      const double s = minima ? 1.0 : -1.0;
+      using Item = std::pair<double, int>;
+      const auto later = [&](const Item& a, const Item& b) {
+        return a.first > b.first || (a.first == b.first && (minima ? a.second > b.second : a.second < b.second));
+      };
+      std::priority_queue<Item, std::vector<Item>, decltype(later)> heap(later);
+      std::fill(visited.begin(), visited.end(), 0);
+      for (int v = 0; v < n; ++v)
+        if (keep[v] && type[v] == static_cast<int>(seed)) heap.push({s * g[v], v});
+      double level = -std::numeric_limits<double>::infinity();
+      while (!heap.empty()) {
+        const auto [value, v] = heap.top();
+        heap.pop();
+        if (visited[v]) continue;
+        visited[v] = 1;
+        if (!(s * g[v] > level)) g[v] = s * (level + delta);
+        level = s * g[v];
+        for (int j = 0; j < rings.size(v); ++j) {
+          const int u = rings.begin(v)[j];
+          if (!visited[u]) heap.push({s * g[u], u});
+        }
+      }
+      if (minima) classify(rings, g, type, multiplicity);
+    }
+  }
+  return -1;
+}
+
 }  // namespace
 
 MorseSmaleComplex morse_smale_complex(const VertexRef& input_V, const FaceRef& F,
@@ -767,7 +1047,7 @@ MorseSmaleComplex morse_smale_complex(const VertexRef& input_V, const FaceRef& F
   Surface S{normalized.V, F, f};
   const Rings rings = one_rings(S.F, static_cast<int>(S.V.rows()));
   bool stuck = false;
-  return trace_complex(S, rings, stuck);
+  return trace_complex(S, rings, stuck, 0, false);
 }
 
 SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const FaceRef& F,
@@ -808,43 +1088,82 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
   const geometry::LaplacianEigenpairs eigen =
       geometry::laplacian_eigenpairs(input_V, F, k, geometry::MassMatrixType::voronoi, progress.subrange(0.0, 0.6));
   const Rings rings = one_rings(FaceMatrix(F), static_cast<int>(n));
+  // Persistence-based simplification (§5.2.1, as Dong et al.): extrema of persistence below
+  // 3% of the function's range are cancelled with their saddles, and of the rest the most
+  // persistent are kept, as many as give about target_patches cells (a quad complex of E extrema
+  // and simple saddles has 2(E − χ) cells).
+  const Eigen::Index euler = static_cast<Eigen::Index>(checked.euler_characteristic);
+  const Eigen::Index extrema_limit = std::max<Eigen::Index>(3, target_patches / 2 + euler);
+  std::vector<std::vector<char>> kept(k);
+  const auto keep_for = [&](Eigen::Index i) -> const std::vector<char>& {
+    if (kept[i].empty()) {
+      const auto column = eigen.vectors.col(i);
+      kept[i] = persistent_extrema(rings, column, 0.03 * (column.maxCoeff() - column.minCoeff()), extrema_limit);
+    }
+    return kept[i];
+  };
   std::vector<Eigen::Index> candidates;
   if (options.eigenvector > 0) {
     candidates.push_back(options.eigenvector);
   } else {
     std::vector<Eigen::Index> cells(k, 0);
     for (Eigen::Index i = 1; i < k; ++i) {
-      cells[i] = 2 * saddle_count(rings, eigen.vectors.col(i));
+      const std::vector<char>& keep = keep_for(i);
+      cells[i] = 2 * (std::count(keep.begin(), keep.end(), char(1)) - euler);
       if (cells[i] > 0) candidates.push_back(i);
     }
     std::stable_sort(candidates.begin(), candidates.end(), [&](Eigen::Index a, Eigen::Index b) {
       return std::abs(cells[a] - target_patches) < std::abs(cells[b] - target_patches);
     });
-    if (candidates.size() > 12) candidates.resize(12);
+    if (candidates.size() > 40) candidates.resize(40);
   }
   progress.report(0.6, "Morse-Smale complex");
   std::string last_problem = "no eigenvector among the first " + std::to_string(k) + " has a saddle";
   Eigen::Index tried = 0;
   for (const Eigen::Index index : candidates) {
     ++tried;
-    Surface S = star_split(Surface{V, FaceMatrix(F), eigen.vectors.col(index)});
+    Eigen::VectorXd function = eigen.vectors.col(index);
+    Eigen::VectorXi before_type, before_multiplicity;
+    classify(rings, function, before_type, before_multiplicity);
+    const Eigen::Index extrema_before =
+        (before_type.array() == static_cast<int>(CriticalType::maximum)).count() +
+        (before_type.array() == static_cast<int>(CriticalType::minimum)).count();
+    const int rounds = simplify_to(rings, function, keep_for(index));
+    Surface S = star_split(Surface{V, FaceMatrix(F), function});
     for (int level = 0;; ++level) {
       const Rings surface_rings = one_rings(S.F, static_cast<int>(S.V.rows()));
       bool stuck = false, any_stuck = false;
       MorseSmaleComplex C;
       Surface T;
       for (int order = 0; order < 4; ++order) {
-        C = trace_complex(S, surface_rings, stuck, order);
+        Surface work = S;
+        C = trace_complex(work, surface_rings, stuck, order, true);
         any_stuck = any_stuck || stuck;
         if (C.complete()) {
-          T = S;
+          T = std::move(work);
           if (split_chords(T, C) > 0) build_cells(T, C);
         }
         if (C.complete()) break;
       }
       stuck = any_stuck;
       if (C.complete()) {
-        SpectralQuadrangulation out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
+        SpectralQuadrangulation out;
+        try {
+          out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
+        } catch (const SolverError& error) {  // a folded map: the next candidate
+          last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
+          break;
+        }
+        // Grid nodes that coincide (a degenerate map; 1e-12 of the unit-diagonal frame) make this
+        // candidate fail.
+        bool degenerate = false;
+        for (Eigen::Index q = 0; q < out.Q.rows() && !degenerate; ++q)
+          for (int c = 0; c < 4 && !degenerate; ++c)
+            degenerate = !((out.V.row(out.Q(q, c)) - out.V.row(out.Q(q, (c + 1) % 4))).squaredNorm() > 1e-24);
+        if (degenerate) {
+          last_problem = "eigenvector " + std::to_string(index) + ": two grid nodes of a cell coincide";
+          break;
+        }
         out.V = normalized.frame.vertices_to_input(out.V, "spectral_quadrangulate: vertex");
         out.eigenvector = index;
         out.eigenvalue = eigen.values[index];
@@ -852,9 +1171,13 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         out.minima = C.minima;
         out.saddles = C.saddles;
         out.multi_saddles = (C.saddle_multiplicity.array() > 1).count();
+        out.saddle_vertices = (C.saddle_multiplicity.array() > 0).count();
         out.refinements = level;
         out.detours = C.detours;
+        out.gap_routes = C.gap_routes;
         out.candidates_tried = tried;
+        out.cancelled_extrema = extrema_before - C.maxima - C.minima;
+        out.simplification_rounds = rounds;
         progress.report(1.0, "done");
         return out;
       }

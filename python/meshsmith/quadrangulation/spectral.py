@@ -8,10 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _arguments
+from .._core import InputError
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
-from .pipeline import _irregular_vertices
+from .pipeline import RELAX_BELOW, _irregular_vertices, _relax
 from .quality import quad_quality
 
 __all__ = ["MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulationReport",
@@ -82,13 +83,21 @@ class SpectralQuadrangulationReport(Unpackable):
     quads: faces of the result; target_faces: the number asked for (None: quads of twice the
     mean edge length); patches: cells of the Morse–Smale complex (each an n×m grid);
     eigenvector, eigenvalue: the eigenpair used (-L u = λ M u, input units); maxima, minima,
-    saddles (with multiplicity), multi_saddles (saddle vertices of multiplicity > 1): its critical
-    points, maxima - saddles + minima = χ; refinements: 1-to-4 subdivisions the tracing needed;
-    detours: lines that went on beside another (see :func:`morse_smale_complex`);
-    candidates_tried: eigenvectors traced; irregular_vertices: vertices of valence other than 4;
+    saddles (with multiplicity), multi_saddles (saddle vertices of multiplicity > 1),
+    saddle_vertices: its critical points, maxima - saddles + minima = χ, and patches = saddles +
+    saddle_vertices (a saddle with 2k lines is a corner of k cells); refinements: 1-to-4 subdivisions the tracing needed;
+    detours: lines that went on beside another (see :func:`morse_smale_complex`); gap_routes: of
+    them, lines walled in by others that went on through the gaps between them (the mesh edges
+    across a gap split at their midpoints);
+    candidates_tried: eigenvectors traced; cancelled_extrema: extrema of the eigenvector cancelled
+    with as many saddles by the persistence-based simplification before tracing (persistence
+    below 3% of its range, or beyond the most persistent ones the target asks for);
+    simplification_rounds: its sweep rounds (-1: it did not converge and the eigenvector was used
+    as it was); irregular_vertices: vertices of valence other than 4;
     mean_angle_deviation, max_angle_deviation: |angle - 90°| over every quad corner, degrees;
     min_scaled_jacobian: over every corner; inverted_quads: quads with a corner of scaled
-    Jacobian <= 0. The report holds no timings, so equal calls give equal reports.
+    Jacobian <= 0 (after the relaxation); inverted_before_relaxing: the same count as the grids
+    were extracted; relaxed_vertices: vertices moved by the relaxation (0 with ``relax=0``). The report holds no timings, so equal calls give equal reports.
     """
 
     quads: int
@@ -100,14 +109,20 @@ class SpectralQuadrangulationReport(Unpackable):
     minima: int
     saddles: int
     multi_saddles: int
+    saddle_vertices: int
     refinements: int
     detours: int
+    gap_routes: int
     candidates_tried: int
+    cancelled_extrema: int
+    simplification_rounds: int
     irregular_vertices: int
     mean_angle_deviation: float
     max_angle_deviation: float
     min_scaled_jacobian: float
     inverted_quads: int
+    inverted_before_relaxing: int
+    relaxed_vertices: int
 
 
 @dataclass(frozen=True)
@@ -131,7 +146,7 @@ class SpectralQuadrangulation(Unpackable):
 @_arguments.real_options
 def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                            target_patches: int | None = None, eigenvector: int | None = None,
-                           progress: ProgressCallback = None) -> SpectralQuadrangulation:
+                           relax: int = 30, progress: ProgressCallback = None) -> SpectralQuadrangulation:
     """Quadrangulate a closed surface with the Morse–Smale complex of a Laplacian eigenfunction
     (§5.2.1; Dong et al., "Spectral Surface Quadrangulation", 2006).
 
@@ -148,26 +163,42 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     V: (n, 3) float array; F: (m, 3) integer array, a clean, connected, closed, oriented manifold.
     target_faces: about how many quads (None: quads of twice the mean edge length);
     target_patches: about how many cells (None: one per ~25 quads, in [8, 240]); eigenvector: its
-    index (>= 1) instead, overriding target_patches. progress: optional callback
+    index (>= 1) instead, overriding target_patches. relax: at most this many rounds of moving
+    the corners of quads with scaled Jacobian below 0.2 (and their neighbours) to the mean of their
+    quad-edge neighbours and back onto the surface, the best round kept (as
+    :func:`quadrangulate` does; 0: none; skipped when a round collapses a quad edge). progress: optional callback
     (fraction, stage) -> bool (False cancels).
 
     Returns a :class:`SpectralQuadrangulation` (unpacks as ``V, Q, report``). Raises InputError
     for bad input, boundaries, or options out of range; SolverError when no candidate
     eigenvector gives a complete complex (the message says why); Cancelled from `progress`.
     """
+    relax = _arguments.integer(relax, "relax", 0, 1000)
     progress = _arguments.progress(progress)
     out = _core.spectral_quadrangulate(V, F, target_faces, target_patches, eigenvector, progress)
     Vq, Q = out["V"], out["Q"]
     quality = quad_quality(Vq, Q)
+    inverted_before, relaxed = int((quality.scaled_jacobian <= 0).sum()), 0
+    if relax and quality.scaled_jacobian.min() < RELAX_BELOW:
+        try:
+            Vq, relaxed = _relax(Vq, Q, V, F, relax)
+        except InputError:
+            # a round projected two corners of a quad onto one surface point (quad_quality then
+            # rejects the zero-length edge): the grids are kept as extracted
+            relaxed = 0
+        quality = quad_quality(Vq, Q)
     deviation = np.abs(quality.angles - 90.0)
     report = SpectralQuadrangulationReport(
         quads=len(Q), target_faces=None if target_faces is None else int(target_faces),
         patches=len(out["patch_corners"]), eigenvector=int(out["eigenvector"]),
         eigenvalue=float(out["eigenvalue"]), maxima=int(out["maxima"]), minima=int(out["minima"]),
         saddles=int(out["saddles"]), multi_saddles=int(out["multi_saddles"]),
-        refinements=int(out["refinements"]), detours=int(out["detours"]), candidates_tried=int(out["candidates_tried"]),
+        saddle_vertices=int(out["saddle_vertices"]),
+        refinements=int(out["refinements"]), detours=int(out["detours"]), gap_routes=int(out["gap_routes"]), candidates_tried=int(out["candidates_tried"]),
+        cancelled_extrema=int(out["cancelled_extrema"]), simplification_rounds=int(out["simplification_rounds"]),
         irregular_vertices=_irregular_vertices(Q, quality.valence),
         mean_angle_deviation=float(deviation.mean()), max_angle_deviation=float(deviation.max()),
         min_scaled_jacobian=float(quality.scaled_jacobian.min()),
-        inverted_quads=int((quality.scaled_jacobian <= 0).sum()))
+        inverted_quads=int((quality.scaled_jacobian <= 0).sum()), inverted_before_relaxing=inverted_before,
+        relaxed_vertices=relaxed)
     return SpectralQuadrangulation(Vq, Q, out["quad_patch"], out["patch_corners"], report)

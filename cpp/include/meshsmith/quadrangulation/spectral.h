@@ -39,6 +39,9 @@ struct MorseSmaleComplex {
   /// Lines that met another line (every step up, or down, taken) and went on beside it, by the
   /// shortest path through free vertices to the extremum that line ends at.
   Eigen::Index detours = 0;
+  /// Lines walled in by others that went on through the gaps between them (the mesh edges
+  /// crossing a gap split at their midpoints; spectral_quadrangulate only).
+  Eigen::Index gap_routes = 0;
   Eigen::VectorXi face_patch;           ///< #F: the cell of each face (−1 when the complex is incomplete)
   /// #P×4: each cell's corners counter-clockwise (as the faces), a maximum first, then a saddle,
   /// the minimum, the other saddle.
@@ -81,9 +84,15 @@ struct SpectralQuadrangulation {
   double eigenvalue = 0.0;        ///< its eigenvalue λ (−L u = λ M u), input units
   Eigen::Index maxima = 0, minima = 0, saddles = 0;  ///< of the complex (saddles with multiplicity)
   Eigen::Index multi_saddles = 0;  ///< saddle vertices of multiplicity > 1
+  Eigen::Index saddle_vertices = 0;  ///< saddle vertices (cells = saddles + saddle_vertices)
   Eigen::Index refinements = 0;   ///< 1-to-4 subdivisions applied so that the lines had room
   Eigen::Index detours = 0;       ///< lines that went on beside another (MorseSmaleComplex::detours)
+  Eigen::Index gap_routes = 0;    ///< of them, lines that went through gaps (MorseSmaleComplex::gap_routes)
   Eigen::Index candidates_tried = 0;  ///< eigenvectors whose complex was traced
+  /// Extrema of the eigenvector cancelled (with as many saddles) by the persistence-based
+  /// simplification before the complex was traced.
+  Eigen::Index cancelled_extrema = 0;
+  int simplification_rounds = 0;  ///< its sweep rounds (−1: it did not converge, f was kept)
 };
 
 /// Spectral quadrangulation of a closed surface (§5.2.1). Computes the lowest eigenpairs of the
