@@ -3,10 +3,11 @@ on the same input, precomputation and per-solve times apart.
 
 Inputs: nefertiti-lowres (35k vertices, ../shared/data; the issue's reference figures were
 measured on it) with the top 10% of vertices (by z) as the handle and the bottom 10% fixed
-(7,002 constrained vertices), the handle rotated by 0.5 rad and lifted; a procedural torus of
-100k vertices (500 × 200) with the same kind of regions for the interactive per-solve figures.
-Without the shared data the nefertiti cases run on a 35k-vertex torus; quick mode runs every case
-on tori of 3,200 and 5,760 vertices.
+(7,002 constrained vertices), the handle rotated by 0.5 rad and lifted; for the interactive
+per-solve figures, with the same kind of regions, a procedural torus of 100k vertices (500 × 200)
+and a sphere-topology mesh of 99,848 vertices (129 × 129 cells per cube face, projected on the
+sphere). Without the shared data the nefertiti cases run on a 35k-vertex torus; quick mode runs
+every case on tori of 3,200 and 5,760 vertices and a 5,402-vertex cube sphere.
 
 Same work: `igl.harmonic(V, F, b, D_b, 2)` factorizes and solves in one call (its Python binding
 has no precompute object), so it is timed against meshsmith's precompute + one deform; the
@@ -15,10 +16,10 @@ shown beside it in parentheses (different work). ARAP: `igl.arap_precomputation`
 `ArapDeformer(...)`, then 10 iterations of `igl.arap_solve` against `ArapDeformer.solve(..., 10)`
 from the same initial guess.
 
-Interactive case (100k-vertex torus): precomputation and one solve next to libigl's precomputed
-solves — `min_quad_with_fixed_precompute` on igl.harmonic's k = 2 operator, then
-`min_quad_with_fixed_solve` (what igl.harmonic does in one call), and `igl.arap_solve` with
-max_iter = 1 for one ARAP iteration.
+Interactive cases (100k-vertex torus and cube sphere): precomputation and one solve next to
+libigl's precomputed solves — `min_quad_with_fixed_precompute` on igl.harmonic's k = 2 operator,
+then `min_quad_with_fixed_solve` (what igl.harmonic does in one call), and `igl.arap_solve` with
+max_iter = 1 for one ARAP iteration; the median CPU time per solve (all threads) is printed too.
 
 Result checks (tolerances): the bi-Laplacian deformation within 1e-8 of libigl's (max |difference|
 over the bounding-box diagonal); meshsmith's ARAP energy after 10 iterations (and after one, in the
@@ -28,6 +29,7 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from pathlib import Path
 
 import igl
@@ -138,6 +140,16 @@ def arap(name, V, F):
     bench.check("ARAP energy after 10 iterations, meshsmith / libigl - 1", ours / theirs - 1.0, 1e-6)
 
 
+def cpu_median(run, repeats=9):
+    """The median CPU time of `run()` in seconds (the process's, all threads)."""
+    samples = []
+    for _ in range(size(repeats, 3)):
+        start = time.process_time()
+        run()
+        samples.append(time.process_time() - start)
+    return float(np.median(samples))
+
+
 def igl_bilaplacian_system(V, F64):
     """libigl's order-2 operator as igl.harmonic assembles it: Q = (−L) M⁻¹ (−L), Voronoi M."""
     L = igl.cotmatrix(V, F64)
@@ -146,13 +158,28 @@ def igl_bilaplacian_system(V, F64):
     return scipy.sparse.csc_matrix(L @ inverse_areas @ L)
 
 
+def cube_sphere(subdivisions):
+    """A sphere-topology mesh without poles: the subdivided cube (6·s² + 2 vertices) projected
+    onto the unit sphere."""
+    V, F = datasets.cube(subdivisions=subdivisions)
+    return V / np.linalg.norm(V, axis=1, keepdims=True), F
+
+
 def interactive():
-    """Precompute and per-solve figures on a 100k-vertex mesh next to libigl's precomputed solves
-    (the issue's targets: one bi-Laplacian solve < 20 ms, one ARAP iteration < 60 ms, per-solve
-    ≥ 2× faster than libigl's). libigl's precomputed bi-Laplacian solve is
-    min_quad_with_fixed_precompute / _solve on igl.harmonic's operator (what igl.harmonic calls
-    in one go); its ARAP iteration is igl.arap_solve with max_iter = 1."""
-    V, F = torus(size(500, 120), size(200, 48))
+    """Precompute and per-solve figures on two 100k-vertex meshes next to libigl's precomputed
+    solves (the issue's targets: one bi-Laplacian solve < 20 ms, one ARAP iteration < 60 ms,
+    per-solve ≥ 2× faster than libigl's): the torus (500 × 200; its two periodic directions make
+    the separators of a fill-reducing order long) and a sphere-topology mesh (129 × 129 cells
+    per cube face, projected: 99,848 vertices)."""
+    interactive_case("torus", *torus(size(500, 120), size(200, 48)))
+    interactive_case("cube sphere", *cube_sphere(size(129, 30)))
+
+
+def interactive_case(mesh, V, F):
+    """libigl's precomputed bi-Laplacian solve is min_quad_with_fixed_precompute / _solve on
+    igl.harmonic's operator (what igl.harmonic calls in one go); its ARAP iteration is
+    igl.arap_solve with max_iter = 1. Per-solve rows also print their median CPU time (both
+    threads), which a loaded machine disturbs less than the wall time."""
     F64 = F.astype(np.int64)
     handle, fixed = regions(V)
     handles = np.concatenate([handle, fixed])
@@ -161,7 +188,7 @@ def interactive():
     positions = np.concatenate([moved, V[fixed]])
     b = handles.astype(np.int64)
     D_b = np.concatenate([moved - V[handle], np.zeros((len(fixed), 3))])
-    name = f"torus {len(V)} vertices, {len(b)} constrained"
+    name = f"{mesh} {len(V)} vertices, {len(b)} constrained"
     print(f"{name}: load average {os.getloadavg()[0]:.2f}")
 
     def igl_mqwf_precompute():
@@ -198,6 +225,9 @@ def interactive():
     bench.check("bi-Laplacian deformation vs libigl's, max |difference| / bbox diagonal",
                 np.abs(bench.output("meshsmith deform") - bench.output("igl min_quad_with_fixed_solve")).max()
                 / bbox_diagonal(V), 1e-8)
+    print(f"  CPU time per solve (median of 9, all threads): meshsmith deform "
+          f"{cpu_median(lambda: deformer.deform(moved)) * 1e3:.1f} ms, igl min_quad_with_fixed_solve "
+          f"{cpu_median(lambda: igl.min_quad_with_fixed_solve(mqwf, zeros, D_b, no_equalities)) * 1e3:.1f} ms")
 
     U = solver.solve(positions, 0)
     bench = Benchmark("deformation", f"one ARAP iteration after precomputation, {name}",
@@ -208,6 +238,9 @@ def interactive():
     ours = solver.energy(bench.output("meshsmith ArapDeformer.solve(1 iteration)"))
     theirs = solver.energy(bench.output("igl.arap_solve (max_iter = 1)"))
     bench.check("ARAP energy after 1 iteration, meshsmith / libigl - 1", ours / theirs - 1.0, 1e-6)
+    print(f"  CPU time per ARAP iteration (median of 9, all threads): meshsmith "
+          f"{cpu_median(lambda: solver.solve(positions, 1, initial=U)) * 1e3:.1f} ms, igl.arap_solve "
+          f"{cpu_median(lambda: igl.arap_solve(positions, arap_data, U)) * 1e3:.1f} ms")
 
 
 def main() -> None:

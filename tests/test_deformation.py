@@ -47,6 +47,23 @@ def test_harmonic_equals_libigl(order):
     assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
 
 
+@pytest.mark.parametrize("columns", [1, 3, 5, 8])
+def test_harmonic_any_column_count_equals_libigl(columns):
+    """The substitution runs 1, 2 or 4 columns per pass (3 padded to 4; 5 = 4 + 1); values at
+    a few vertices only (a sparse right-hand side: the forward pass skips zero supernodes)."""
+    V, F = datasets.disk(n_rings=20, n_segments=64)
+    V = V + 0.05 * np.sin(3 * V[:, [1, 2, 0]])
+    b = np.flatnonzero(np.linalg.norm(V[:, :2], axis=1) > 0.9)
+    rng = np.random.default_rng(columns)
+    bc = np.zeros((len(b), columns))
+    some = rng.choice(len(b), size=5, replace=False)
+    bc[some] = rng.normal(size=(5, columns))
+    ours = deformation.harmonic(V, F, b, bc, order=2)
+    theirs = igl.harmonic(V, F.astype(np.int64), b.astype(np.int64), bc, 2)
+    assert np.abs(theirs).max() > 1e-3
+    assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
+
+
 @pytest.mark.parametrize("order", [1, 2, 3])
 def test_deformer_displacement_equals_libigl_harmonic(order):
     V, F = datasets.icosphere(4)

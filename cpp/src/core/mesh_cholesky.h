@@ -2,7 +2,8 @@
 // Internal to the core (not installed): the one CHOLMOD set-up of the SPD solves of every
 // chapter — parametrization's harmonic, stretch and LSCM systems (constrained_solve), the reduced
 // ABF++ system, the angle-based layout and spectral LSCM's shift-and-invert; deformation's
-// k-harmonic and ARAP systems; quadrangulation's field and MIQ systems. A chapter's sources include it as "../core/mesh_cholesky.h".
+// k-harmonic and ARAP systems; smoothing's implicit steps; quadrangulation's field and MIQ
+// systems. A chapter's sources include it as "../core/mesh_cholesky.h".
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 

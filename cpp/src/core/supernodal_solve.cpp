@@ -127,117 +127,228 @@ SupernodalSolve::SupernodalSolve(const cholmod_factor& factor) : factor_(&factor
   }
 }
 
+namespace {
+
+/// One row of the right-hand sides' block: C values in one SIMD register (GCC/Clang vector
+/// extensions; lowered to SSE2 pairs by default, to one AVX register in the avx2 clones below;
+/// aligned(8): the storage is plain doubles, so accesses are unaligned).
 template <int C>
-void SupernodalSolve::forward(const std::vector<int>& supernodes, double* Y, double* accumulator) const {
-  const FactorArrays f(*factor_);
+struct RowOf;
+template <>
+struct RowOf<1> {
+  using type = double;
+};
+template <>
+struct RowOf<2> {
+  typedef double type __attribute__((vector_size(16), aligned(8)));
+};
+template <>
+struct RowOf<4> {
+  typedef double type __attribute__((vector_size(32), aligned(8)));
+};
+
+template <int C>
+using Row = typename RowOf<C>::type;
+
+template <int C>
+inline bool all_zero(const Row<C>* rows, std::ptrdiff_t count) {
+  const double* values = reinterpret_cast<const double*>(rows);
+  for (std::ptrdiff_t k = 0; k < count * C; ++k)
+    if (values[k] != 0.0) return false;
+  return true;
+}
+
+/// The forward substitution over `supernodes` (increasing). Rows of the top go to `accumulator`
+/// (indexed by top_row) when it is given. Supernodes whose own rows are still zero are skipped.
+template <int C>
+__attribute__((always_inline)) inline void forward_pass(const FactorArrays& f, const std::vector<int>& supernodes,
+                                                        const int* top_row, Row<C>* Y, Row<C>* accumulator) {
   const int *super = f.super, *pi = f.pi, *px = f.px, *s = f.s;
-  const double* x = f.x;
-  std::vector<double> buffer;
+  std::vector<double> buffer_storage;
   std::vector<double*> at;
   for (int q : supernodes) {
+    // A supernode whose own rows are still all zero (no right-hand side there and no update
+    // from below) contributes nothing: skipped without reading its part of the factor.
+    if (all_zero<C>(Y + super[q], super[q + 1] - super[q])) continue;
     const int columns = super[q + 1] - super[q], rows = pi[q + 1] - pi[q];
     const int* row = s + pi[q];
-    const double* L = x + px[q];  // rows × columns, column-major
-    buffer.resize(static_cast<std::size_t>(rows) * C);
+    const double* L = f.x + px[q];  // rows × columns, column-major
+    buffer_storage.resize(static_cast<std::size_t>(rows) * C);
     at.resize(static_cast<std::size_t>(rows));
-    // Rows of the top go to this thread's accumulator (they only receive updates here).
+    Row<C>* __restrict b = reinterpret_cast<Row<C>*>(buffer_storage.data());
     for (int r = 0; r < rows; ++r) {
-      const int top = accumulator ? top_row_[row[r]] : -1;
-      at[r] = top >= 0 ? accumulator + static_cast<std::ptrdiff_t>(top) * C : Y + static_cast<std::ptrdiff_t>(row[r]) * C;
-      for (int c = 0; c < C; ++c) buffer[r * C + c] = at[r][c];
+      const int top = accumulator ? top_row[row[r]] : -1;
+      at[r] = reinterpret_cast<double*>(top >= 0 ? accumulator + top : Y + row[r]);
+      b[r] = *reinterpret_cast<const Row<C>*>(at[r]);
     }
-    double* __restrict b = buffer.data();
-    for (int j = 0; j < columns; ++j) {
-      const double* __restrict column = L + static_cast<std::ptrdiff_t>(j) * rows;
-      double a[C];
-      for (int c = 0; c < C; ++c) a[c] = b[j * C + c] /= column[j];
-      for (int r = j + 1; r < rows; ++r) {
-        const double l = column[r];
-        for (int c = 0; c < C; ++c) b[r * C + c] -= l * a[c];
-      }
+    int j = 0;
+    for (; j + 1 < columns; j += 2) {  // two columns per sweep: b read and written once for both
+      const double* __restrict c0 = L + static_cast<std::ptrdiff_t>(j) * rows;
+      const double* __restrict c1 = c0 + rows;
+      const Row<C> a0 = b[j] / c0[j];
+      b[j] = a0;
+      const Row<C> a1 = (b[j + 1] - c0[j + 1] * a0) / c1[j + 1];
+      b[j + 1] = a1;
+      for (int r = j + 2; r < rows; ++r) b[r] = (b[r] - c0[r] * a0) - c1[r] * a1;
     }
-    for (int r = 0; r < rows; ++r)
-      for (int c = 0; c < C; ++c) at[r][c] = buffer[r * C + c];
+    if (j < columns) {
+      const double* __restrict c0 = L + static_cast<std::ptrdiff_t>(j) * rows;
+      const Row<C> a0 = b[j] / c0[j];
+      b[j] = a0;
+      for (int r = j + 1; r < rows; ++r) b[r] = b[r] - c0[r] * a0;
+    }
+    for (int r = 0; r < rows; ++r) *reinterpret_cast<Row<C>*>(at[r]) = b[r];
   }
 }
 
+/// The back substitution over `supernodes`, in decreasing order.
 template <int C>
-void SupernodalSolve::backward(const std::vector<int>& supernodes, double* Y) const {
-  const FactorArrays f(*factor_);
+__attribute__((always_inline)) inline void backward_pass(const FactorArrays& f, const std::vector<int>& supernodes,
+                                                         Row<C>* Y) {
   const int *super = f.super, *pi = f.pi, *px = f.px, *s = f.s;
-  const double* x = f.x;
-  std::vector<double> buffer;
+  std::vector<double> buffer_storage;
   for (auto it = supernodes.rbegin(); it != supernodes.rend(); ++it) {
     const int q = *it;
     const int columns = super[q + 1] - super[q], rows = pi[q + 1] - pi[q];
     const int* row = s + pi[q];
-    const double* L = x + px[q];
-    buffer.resize(static_cast<std::size_t>(rows) * C);
-    for (int r = 0; r < rows; ++r)
-      for (int c = 0; c < C; ++c) buffer[r * C + c] = Y[static_cast<std::ptrdiff_t>(row[r]) * C + c];
-    double* __restrict b = buffer.data();
-    for (int j = columns - 1; j >= 0; --j) {
-      const double* __restrict column = L + static_cast<std::ptrdiff_t>(j) * rows;
-      // Two partial sums per column of b (independent chains; the order is fixed).
-      double even[C], odd[C];
-      for (int c = 0; c < C; ++c) even[c] = odd[c] = 0.0;
+    const double* L = f.x + px[q];
+    buffer_storage.resize(static_cast<std::size_t>(rows) * C);
+    Row<C>* __restrict b = reinterpret_cast<Row<C>*>(buffer_storage.data());
+    for (int r = columns; r < rows; ++r) b[r] = Y[row[r]];
+    for (int r = 0; r < columns; ++r) b[r] = Y[super[q] + r];
+    int j = columns - 1;
+    // Two columns per sweep (j and j − 1 share the loads of b), two partial sums per column:
+    // four independent chains of additions, so the loop is not bound by their latency.
+    for (; j >= 1; j -= 2) {
+      const double* __restrict c1 = L + static_cast<std::ptrdiff_t>(j) * rows;
+      const double* __restrict c0 = c1 - rows;
+      Row<C> even1 = Row<C>{} * 0.0, odd1 = even1, even0 = even1, odd0 = even1;
       int r = j + 1;
       for (; r + 1 < rows; r += 2) {
-        const double l0 = column[r], l1 = column[r + 1];
-        for (int c = 0; c < C; ++c) {
-          even[c] += l0 * b[r * C + c];
-          odd[c] += l1 * b[(r + 1) * C + c];
-        }
+        even1 += c1[r] * b[r];
+        even0 += c0[r] * b[r];
+        odd1 += c1[r + 1] * b[r + 1];
+        odd0 += c0[r + 1] * b[r + 1];
       }
       if (r < rows) {
-        for (int c = 0; c < C; ++c) even[c] += column[r] * b[r * C + c];
+        even1 += c1[r] * b[r];
+        even0 += c0[r] * b[r];
       }
-      for (int c = 0; c < C; ++c) b[j * C + c] = (b[j * C + c] - (even[c] + odd[c])) / column[j];
+      b[j] = (b[j] - (even1 + odd1)) / c1[j];
+      b[j - 1] = (b[j - 1] - ((even0 + odd0) + c0[j] * b[j])) / c0[j - 1];
     }
-    for (int j = 0; j < columns; ++j)
-      for (int c = 0; c < C; ++c) Y[static_cast<std::ptrdiff_t>(super[q] + j) * C + c] = buffer[j * C + c];
+    if (j == 0) {
+      const double* __restrict column = L;
+      Row<C> even = Row<C>{} * 0.0, odd = even;
+      int r = 1;
+      for (; r + 1 < rows; r += 2) {
+        even += column[r] * b[r];
+        odd += column[r + 1] * b[r + 1];
+      }
+      if (r < rows) even += column[r] * b[r];
+      b[0] = (b[0] - (even + odd)) / column[0];
+    }
+    for (int j = 0; j < columns; ++j) Y[super[q] + j] = b[j];
   }
 }
 
+/// The passes compiled twice: for the baseline ISA (SSE2 on x86-64) and, chosen at run time
+/// when the processor has it, AVX2 (one 4-wide register per row). No FMA contraction in either
+/// (the avx2 target has no fma), so both give the same bits.
 template <int C>
-void SupernodalSolve::substitute(double* Y) const {
-  std::vector<double> accumulators[2];
-  for (auto& accumulator : accumulators) accumulator.assign(static_cast<std::size_t>(top_rows_) * C, 0.0);
-  tbb::parallel_invoke([&] { forward<C>(group_[0], Y, accumulators[0].data()); },
-                       [&] { forward<C>(group_[1], Y, accumulators[1].data()); });
+void forward_default(const FactorArrays& f, const std::vector<int>& supernodes, const int* top_row, Row<C>* Y,
+                     Row<C>* accumulator) {
+  forward_pass<C>(f, supernodes, top_row, Y, accumulator);
+}
+template <int C>
+void backward_default(const FactorArrays& f, const std::vector<int>& supernodes, Row<C>* Y) {
+  backward_pass<C>(f, supernodes, Y);
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define MESHSMITH_AVX2_CLONES 1
+template <int C>
+__attribute__((target("avx2"))) void forward_avx2(const FactorArrays& f, const std::vector<int>& supernodes,
+                                                  const int* top_row, Row<C>* Y, Row<C>* accumulator) {
+  forward_pass<C>(f, supernodes, top_row, Y, accumulator);
+}
+template <int C>
+__attribute__((target("avx2"))) void backward_avx2(const FactorArrays& f, const std::vector<int>& supernodes,
+                                                   Row<C>* Y) {
+  backward_pass<C>(f, supernodes, Y);
+}
+#endif
+
+bool use_avx2() {
+#ifdef MESHSMITH_AVX2_CLONES
+  static const bool supported = __builtin_cpu_supports("avx2") != 0;
+  return supported;
+#else
+  return false;
+#endif
+}
+
+template <int C>
+void forward_dispatch(const FactorArrays& f, const std::vector<int>& supernodes, const int* top_row, Row<C>* Y,
+                      Row<C>* accumulator) {
+#ifdef MESHSMITH_AVX2_CLONES
+  if (use_avx2()) return forward_avx2<C>(f, supernodes, top_row, Y, accumulator);
+#endif
+  forward_default<C>(f, supernodes, top_row, Y, accumulator);
+}
+
+template <int C>
+void backward_dispatch(const FactorArrays& f, const std::vector<int>& supernodes, Row<C>* Y) {
+#ifdef MESHSMITH_AVX2_CLONES
+  if (use_avx2()) return backward_avx2<C>(f, supernodes, Y);
+#endif
+  backward_default<C>(f, supernodes, Y);
+}
+
+}  // namespace
+
+template <int C>
+void SupernodalSolve::substitute(const Eigen::Ref<const Eigen::MatrixXd>& b, Eigen::Index first,
+                                 Eigen::MatrixXd& x) const {
+  using R = Row<C>;
+  const int width = static_cast<int>(std::min<Eigen::Index>(C, b.cols() - first));
+  const int* permutation = static_cast<const int*>(factor_->Perm);
+  const FactorArrays f(*factor_);
+  // Plain double storage (std::vector would not keep a vector type's reduced alignment).
+  std::vector<double> Y_storage(static_cast<std::size_t>(n_) * C);
+  for (Eigen::Index k = 0; k < n_; ++k) {
+    const Eigen::Index source = permutation ? permutation[k] : k;
+    for (int c = 0; c < width; ++c) Y_storage[k * C + c] = b(source, first + c);
+  }
+  std::vector<double> accumulator_storage[2];
+  for (auto& accumulator : accumulator_storage) accumulator.assign(static_cast<std::size_t>(top_rows_) * C, 0.0);
+  R* Y = reinterpret_cast<R*>(Y_storage.data());
+  R* accumulators[2] = {reinterpret_cast<R*>(accumulator_storage[0].data()),
+                        reinterpret_cast<R*>(accumulator_storage[1].data())};
+  tbb::parallel_invoke([&] { forward_dispatch<C>(f, group_[0], top_row_.data(), Y, accumulators[0]); },
+                       [&] { forward_dispatch<C>(f, group_[1], top_row_.data(), Y, accumulators[1]); });
   for (std::size_t k = 0; k < top_row_.size(); ++k) {
     const int top = top_row_[k];
-    if (top < 0) continue;
-    for (int c = 0; c < C; ++c) {
-      Y[k * C + c] += accumulators[0][static_cast<std::size_t>(top) * C + c] + accumulators[1][static_cast<std::size_t>(top) * C + c];
-    }
+    if (top >= 0) Y[k] += accumulators[0][top] + accumulators[1][top];
   }
-  forward<C>(top_, Y, nullptr);
-  backward<C>(top_, Y);
-  tbb::parallel_invoke([&] { backward<C>(group_[0], Y); }, [&] { backward<C>(group_[1], Y); });
+  forward_dispatch<C>(f, top_, top_row_.data(), Y, nullptr);
+  backward_dispatch<C>(f, top_, Y);
+  tbb::parallel_invoke([&] { backward_dispatch<C>(f, group_[0], Y); },
+                       [&] { backward_dispatch<C>(f, group_[1], Y); });
+  for (Eigen::Index k = 0; k < n_; ++k) {
+    const Eigen::Index target = permutation ? permutation[k] : k;
+    for (int c = 0; c < width; ++c) x(target, first + c) = Y_storage[k * C + c];
+  }
 }
 
 Eigen::MatrixXd SupernodalSolve::solve(const Eigen::Ref<const Eigen::MatrixXd>& b) const {
   if (b.rows() != n_) throw std::logic_error("SupernodalSolve: the right-hand side has the wrong number of rows");
-  const int* permutation = static_cast<const int*>(factor_->Perm);
   Eigen::MatrixXd x(n_, b.cols());
-  std::vector<double> Y;
+  // Columns four at a time (three padded with a zero column: one 4-wide register per row).
   for (Eigen::Index first = 0; first < b.cols(); first += 4) {
-    const int width = static_cast<int>(std::min<Eigen::Index>(4, b.cols() - first));
-    Y.resize(static_cast<std::size_t>(n_) * width);
-    for (Eigen::Index k = 0; k < n_; ++k) {
-      const Eigen::Index source = permutation ? permutation[k] : k;
-      for (int c = 0; c < width; ++c) Y[k * width + c] = b(source, first + c);
-    }
-    switch (width) {
-      case 1: substitute<1>(Y.data()); break;
-      case 2: substitute<2>(Y.data()); break;
-      case 3: substitute<3>(Y.data()); break;
-      default: substitute<4>(Y.data()); break;
-    }
-    for (Eigen::Index k = 0; k < n_; ++k) {
-      const Eigen::Index target = permutation ? permutation[k] : k;
-      for (int c = 0; c < width; ++c) x(target, first + c) = Y[k * width + c];
+    switch (std::min<Eigen::Index>(4, b.cols() - first)) {
+      case 1: substitute<1>(b, first, x); break;
+      case 2: substitute<2>(b, first, x); break;
+      default: substitute<4>(b, first, x); break;
     }
   }
   return x;

@@ -148,7 +148,10 @@ KHarmonicSolver::KHarmonicSolver(const VertexRef& V, const FaceRef& F, const std
   // Measured here on the 100k-vertex torus (80k free vertices, 3 right-hand sides, CPU time on a
   // loaded machine): order 2, 24 ms per thread (47 ms in all) against 38 ms for cholmod_solve on
   // the same factor; order 1 (ARAP's global step), 13 ms per thread against 23 ms, and 16 ms for
-  // the simplicial AMD factor used before.
+  // the simplicial AMD factor used before. Since SupernodalSolve's AVX2 loops and its skip of
+  // zero supernodes (a handle's right-hand side): order 2, 9–10 ms per thread at load 14–18
+  // (supernodal_solve.h). Ordering the free rows coupled to the handle last (so that the forward
+  // pass touches almost nothing) stored 14.8M factor entries instead of 12.8M: no net gain.
   meshsmith::detail::configure_cholesky(cholesky, n_free >= kMetisUnknowns
                                                       ? meshsmith::detail::CholeskyKind::vertex_laplacian_solves
                                                       : meshsmith::detail::CholeskyKind::vertex_laplacian);

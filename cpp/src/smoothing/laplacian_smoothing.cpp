@@ -9,9 +9,13 @@
 // P the held vertices (whose positions never change, so the second term is computed once).
 // (D − λL)_FF = D_FF + λ(−L)_FF is positive definite whenever every moving vertex has a positive
 // weight sum, because −L is positive semi-definite for uniform and cot weights (also negative
-// ones: it is the Dirichlet energy's matrix). It is factorized once by CHOLMOD and each iteration
-// is one solve with three right-hand sides; the non-symmetric mean-value system uses Eigen's
-// sparse LU (COLAMD ordering) instead, also factorized once.
+// ones: it is the Dirichlet energy's matrix). It is factorized once by CHOLMOD (the core's
+// MeshCholesky, supernodal, AMD) and each iteration is one solve with three right-hand sides by
+// the core's SupernodalSolve (two threads, one pass over the factor for the three columns:
+// CHOLMOD's own supernodal solve spent its time in OpenBLAS's packing of 3-column panels; on the
+// 100k-vertex torus, cotan weights, each further iteration took 196 ms at load 7 before); the
+// non-symmetric mean-value system uses Eigen's sparse LU (COLAMD ordering) instead, also
+// factorized once.
 #include <meshsmith/smoothing/laplacian_smoothing.h>
 
 #include <meshsmith/core/errors.h>
@@ -20,6 +24,8 @@
 #include <meshsmith/geometry/laplacian.h>
 #include <meshsmith/geometry/normals.h>
 
+#include "../core/mesh_cholesky.h"
+#include "../core/supernodal_solve.h"
 #include "umbrella.h"
 
 #include <Eigen/CholmodSupport>
@@ -162,11 +168,13 @@ class ImplicitStep {
     rows.makeCompressed();
     if (m == 0) return;  // every vertex held: the step is the identity
     if (symmetric_) {
-      cholesky_ = std::make_unique<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>>();
+      cholesky_ = std::make_unique<meshsmith::detail::MeshCholesky<double>>();
+      meshsmith::detail::configure_cholesky(*cholesky_, meshsmith::detail::CholeskyKind::vertex_laplacian);
       cholesky_->compute(rows);
       if (cholesky_->info() != Eigen::Success) {
         throw SolverError("laplacian_smoothing: CHOLMOD could not factorize D − λL (not positive definite)");
       }
+      substitution_ = meshsmith::detail::SupernodalSolve(*cholesky_->factor());
     } else {
       lu_ = std::make_unique<Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>>();
       const Eigen::SparseMatrix<double> matrix = rows.transpose();
@@ -183,7 +191,7 @@ class ImplicitStep {
     if (m == 0) return;
     Eigen::MatrixXd rhs(m, 3);
     for (Eigen::Index k = 0; k < m; ++k) rhs.row(k) = diagonal_[k] * before.row(free_[k]) + held_.row(k);
-    const Eigen::MatrixXd solution = symmetric_ ? Eigen::MatrixXd(cholesky_->solve(rhs)) : Eigen::MatrixXd(lu_->solve(rhs));
+    const Eigen::MatrixXd solution = symmetric_ ? substitution_.solve(rhs) : Eigen::MatrixXd(lu_->solve(rhs));
     if (!solution.allFinite()) throw SolverError("laplacian_smoothing: the implicit solve gave non-finite positions");
     for (Eigen::Index k = 0; k < m; ++k) after.row(free_[k]) = solution.row(k);
   }
@@ -193,7 +201,8 @@ class ImplicitStep {
   std::vector<int> free_, index_;
   Eigen::VectorXd diagonal_;
   Eigen::MatrixXd held_;
-  std::unique_ptr<Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower>> cholesky_;
+  std::unique_ptr<meshsmith::detail::MeshCholesky<double>> cholesky_;  ///< owns the factor substitution_ reads
+  meshsmith::detail::SupernodalSolve substitution_;
   std::unique_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>> lu_;
 };
 
