@@ -38,25 +38,30 @@ def stage_quadrangulation(context: DemoContext) -> Section:
         "mean |angle - 90°|": report.mean_angle_deviation,
         "min scaled Jacobian": report.min_scaled_jacobian,
     }
-    # §5.3: dual loops of the same field, singularities within 1.5 loop spacings merged.
-    layout = dual_loop_layout(context.V, context.F, field, merge=1.5)
-    loops_name = "dual_loops.png"
-    render.save_png(np.concatenate([
-        field_picture(layout.V_traced, layout.F_traced, layout.theta, size=(480, 420),
-                      title=f"{len(layout.singular_vertices)} singularities after merging"),
-        regions_picture(layout.V_traced, layout.F_traced, layout.region, size=(480, 420), marked=layout.Vq_vertex,
-                        title=f"{layout.report.loops} loops, {layout.report.regions} regions"),
-        render.render(layout.Vq, layout.Q, size=(480, 420), title=f"{len(layout.Q)} layout quads")], axis=1),
-        context.out / loops_name)
-    figures.update({"dual loops": layout.report.loops, "dual-loop layout quads": len(layout.Q),
-                    "dual-loop layout complete": layout.report.complete})
+    images = [(name, "the cross field (crosses, cones coloured by index), the map's unit squares as a "
+                     "checkerboard on the input, and the extracted quads")]
+    # §5.3: dual loops of the same field, singularities within 1.5 loop spacings merged; they are
+    # traced on closed meshes only (an open input, e.g. a scan with holes, is said so in the figures).
+    try:
+        layout = dual_loop_layout(context.V, context.F, field, merge=1.5)
+    except InputError as error:
+        figures["dual loops skipped"] = str(error)
+    else:
+        loops_name = "dual_loops.png"
+        render.save_png(np.concatenate([
+            field_picture(layout.V_traced, layout.F_traced, layout.theta, size=(480, 420),
+                          title=f"{len(layout.singular_vertices)} singularities after merging"),
+            regions_picture(layout.V_traced, layout.F_traced, layout.region, size=(480, 420),
+                            marked=layout.Vq_vertex, title=f"{layout.report.loops} loops, {layout.report.regions} regions"),
+            render.render(layout.Vq, layout.Q, size=(480, 420), title=f"{len(layout.Q)} layout quads")], axis=1),
+            context.out / loops_name)
+        figures.update({"dual loops": layout.report.loops, "dual-loop layout quads": len(layout.Q),
+                        "dual-loop layout complete": layout.report.complete})
+        images.append((loops_name, "the dual loops' regions (one colour each, the layout vertices marked) and the "
+                                   "coarse layout"))
     context.figures["quadrangulation"] = figures
     return Section("Quadrangulation", "meshsmith.quadrangulation (§5.2.2): a smooth cross field, its "
                    "mixed-integer seamless parametrization (MIQ), and the quad mesh of the map's integer "
                    "grid (quad extraction with exact predicates); §5.3: loops along the field, selected "
                    "until every region is a disk with at most one singularity, and their dual as a "
-                   "coarse quad layout.", figures,
-                   [(name, "the cross field (crosses, cones coloured by index), the map's unit squares as a "
-                           "checkerboard on the input, and the extracted quads"),
-                    (loops_name, "the dual loops' regions (one colour each, the layout vertices marked) and the "
-                                 "coarse layout")])
+                   "coarse quad layout.", figures, images)

@@ -201,7 +201,8 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
     """Moves the corners of the quads with scaled Jacobian < RELAX_BELOW, and their one ring,
     to the mean of their quad-edge neighbours, then onto the surface (V, F); `rounds` times, the
     region regrown each round. Returns the positions of the best round (largest minimum scaled
-    Jacobian) and how many vertices that moved."""
+    Jacobian) and how many vertices that moved; a round that makes a quad degenerate (two corners
+    projected onto one point) ends the relaxation at the best earlier round."""
     from ..geometry.metrics import SurfaceDistance
 
     surface = SurfaceDistance(V, F)
@@ -234,7 +235,10 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
         P = P.copy()
         P[grown] = surface.closest_points(target[grown]).point
         moved |= grown
-        now = float(quad_quality(P, Q).scaled_jacobian.min())
+        try:
+            now = float(quad_quality(P, Q).scaled_jacobian.min())
+        except InputError:  # two corners of a quad projected onto one surface point: keep the best round
+            break
         if now > best_jacobian:
             best, best_jacobian, best_moved = P, now, int(moved.sum())
     return best, best_moved

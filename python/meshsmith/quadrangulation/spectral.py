@@ -8,7 +8,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _arguments
-from .._core import InputError
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
@@ -180,12 +179,7 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     quality = quad_quality(Vq, Q)
     inverted_before, relaxed = int((quality.scaled_jacobian <= 0).sum()), 0
     if relax and quality.scaled_jacobian.min() < RELAX_BELOW:
-        try:
-            Vq, relaxed = _relax(Vq, Q, V, F, relax)
-        except InputError:
-            # a round projected two corners of a quad onto one surface point (quad_quality then
-            # rejects the zero-length edge): the grids are kept as extracted
-            relaxed = 0
+        Vq, relaxed = _relax(Vq, Q, V, F, relax)
         quality = quad_quality(Vq, Q)
     deviation = np.abs(quality.angles - 90.0)
     report = SpectralQuadrangulationReport(
