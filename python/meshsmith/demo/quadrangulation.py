@@ -2,6 +2,8 @@
 dual-loop layout of the field (§5.3)."""
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .. import InputError, render
@@ -27,7 +29,7 @@ def stage_quadrangulation(context: DemoContext) -> Section:
                               title="the seamless map's unit grid"),
                 render.render(result.V, result.Q, size=(480, 420), title=f"{report.quads} quads")]
     render.save_png(np.concatenate(pictures, axis=1), context.out / name)
-    figures = {
+    figures: dict[str, Any] = {
         "quads": report.quads,
         "singularities": len(report.singular_vertices),
         "index sum (4χ)": int(report.singular_indices.sum()),
