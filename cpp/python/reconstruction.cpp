@@ -2,15 +2,13 @@
 // screened Poisson (python/meshsmith/reconstruction/ documents them for users).
 #include "bindings.h"
 #include "convert.h"
+#include "thread_limit.h"
 
 #include <meshsmith/core/errors.h>
 #include <meshsmith/reconstruction/marching_cubes.h>
 #include <meshsmith/reconstruction/poisson.h>
 #include <meshsmith/reconstruction/signed_distance.h>
 
-#include <oneapi/tbb/global_control.h>
-
-#include <memory>
 #include <string>
 
 namespace meshsmith::python {
@@ -143,13 +141,8 @@ void bind_reconstruction(py::module_& m) {
     options.extraction_depth = extraction_depth.is_none() ? 0 : integer_argument<int>(extraction_depth, "extraction_depth", 2, 10);
     options.band_refinement = integer_argument<int>(band_refinement, "band_refinement", 0, 10);
     options.adaptive = adaptive;
-    const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
     Progress progress = make_progress(callback);
-    auto result = without_gil([&] {
-      std::unique_ptr<tbb::global_control> limit;  // at most `threads` threads (the result does not depend on it)
-      if (thread_count > 0)
-        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                      static_cast<std::size_t>(thread_count));
+    auto result = with_threads(threads, [&] {  // the result does not depend on the thread count
       return reconstruction::poisson(map_vertices(samples), map_vertices(normals), options, progress);
     });
     const auto count = static_cast<Eigen::Index>(result.levels.size());

@@ -1,14 +1,12 @@
 // Bindings of the registration chapter (§2.3.1): Horn alignment, ICP, voxel reduction.
 #include "bindings.h"
 #include "convert.h"
+#include "thread_limit.h"
 
 #include <meshsmith/registration/align.h>
 #include <meshsmith/registration/icp.h>
 
-#include <oneapi/tbb/global_control.h>
-
 #include <cstdint>
-#include <memory>
 #include <vector>
 #include <string>
 
@@ -28,19 +26,6 @@ registration::Transform transform_argument(const py::handle& value, const char* 
   if (array.shape(0) != 4)
     throw InputError(std::string(name) + " has shape " + shape_of(array) + ": expected a 4×4 transform");
   return Eigen::Map<const RowTransform>(array.data());
-}
-
-/// run() without the GIL, with TBB capped at `threads` (None: no cap). \throw InputError for a bad count.
-template <typename Run>
-auto with_threads(const py::object& threads, Run&& run) {
-  const int thread_count = threads.is_none() ? 0 : integer_argument<int>(threads, "threads", 1, 4096);
-  return without_gil([&] {
-    std::unique_ptr<tbb::global_control> limit;
-    if (thread_count > 0)
-      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    static_cast<std::size_t>(thread_count));
-    return run();
-  });
 }
 
 registration::IcpOptions icp_options(const std::string& method, const py::object& max_iterations, double tolerance,
