@@ -221,25 +221,7 @@ def multi_scan_case(data: Path) -> None:
     first; starts 10° and 2% off the truth). No peer runs the same multi-view job (Open3D's pose
     graph needs its pairwise edges set up by hand): figures and checks against the known poses."""
     V, F = io.read_mesh(data / "bunny.off")
-    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
-    P, N = datasets.sample_points(V, F, 30000, seed=4)
-    rng = np.random.default_rng(5)
-
-    def motion(angle, shift):
-        axis, direction = rng.normal(size=3), rng.normal(size=3)
-        T = np.eye(4)
-        T[:3, :3] = Rotation.from_rotvec(np.radians(angle) * axis / np.linalg.norm(axis)).as_matrix()
-        T[:3, 3] = shift * direction / np.linalg.norm(direction)
-        return T
-
-    scans, poses, starts = [], [], []
-    for k, azimuth in enumerate(np.radians([0.0, 90.0, 180.0, 270.0])):
-        seen = np.flatnonzero(N @ np.array([np.cos(azimuth), 0.0, np.sin(azimuth)]) > -0.1)
-        part = P[rng.permutation(seen)[:4000]] + 0.002 * diagonal * rng.normal(size=(4000, 3))
-        pose = np.eye(4) if k == 0 else motion(25.0, 0.05 * diagonal)
-        scans.append(registration.apply_transform(np.linalg.inv(pose), part))
-        poses.append(pose)
-        starts.append(pose if k == 0 else pose @ motion(10.0, 0.02 * diagonal))
+    scans, poses, starts, diagonal = datasets.partial_views(V, F)
     bench = Benchmark("registration", "icp_multi, 4 partial views of bunny.off (4,000 points each, 0.2% noise), "
                       "starts 10° off, point_to_plane, trim 0.6: pose graph vs growing model", repeats=5,
                       reference="meshsmith pose_graph")

@@ -144,6 +144,32 @@ def test_scan_pair_has_the_documented_noise_outliers_and_motion():
     assert datasets.scan_pair(V, F, n_source=10, outliers=0.0).source.shape == (10, 3)
 
 
+def test_partial_views_are_posed_noisy_samples_facing_their_views():
+    V, F = datasets.icosphere(4)                       # unit sphere: distances to it are analytic
+    views = datasets.partial_views(V, F, n_views=3, n_points=2000, noise=0.005, seed=7)
+    assert len(views.scans) == 3 and all(scan.shape == (2000, 3) for scan in views.scans)
+    assert np.array_equal(views.poses[0], np.eye(4)) and np.array_equal(views.starts[0], np.eye(4))
+    for k, (scan, pose, start) in enumerate(zip(*views[:3])):
+        world = scan @ pose[:3, :3].T + pose[:3, 3]   # back in the mesh's frame
+        radial = np.linalg.norm(world, axis=1) - 1.0
+        assert abs(radial.std() / (0.005 * views.diagonal) - 1.0) < 0.15
+        azimuth = 2 * np.pi * k / 3
+        facing = world @ np.array([np.cos(azimuth), 0.0, np.sin(azimuth)])
+        assert facing.min() > -0.2                    # normal · view > −0.1, up to the noise (σ 0.017)
+        if k:
+            assert np.isclose(np.degrees(np.arccos((np.trace(pose[:3, :3]) - 1) / 2)), 25.0)
+            assert np.isclose(np.linalg.norm(pose[:3, 3]), 0.05 * views.diagonal)
+            off = np.linalg.inv(pose) @ start
+            assert np.isclose(np.degrees(np.arccos((np.trace(off[:3, :3]) - 1) / 2)), 10.0)
+            assert np.isclose(np.linalg.norm(off[:3, 3]), 0.02 * views.diagonal)
+    again = datasets.partial_views(V, F, n_views=3, n_points=2000, noise=0.005, seed=7)
+    assert all(np.array_equal(a, b) for a, b in zip(views.scans, again.scans))
+    with pytest.raises(meshsmith.InputError, match="view 0 sees"):
+        datasets.partial_views(V, F, n_points=25000)
+    with pytest.raises(meshsmith.InputError, match="noise must be a non-negative"):
+        datasets.partial_views(V, F, noise=np.nan)
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: datasets.scan_pair(*datasets.cube(1), outliers=1.0), "outliers must be a fraction in [0, 1)"),
     (lambda: datasets.scan_pair(*datasets.cube(1), noise=-0.1), "noise must be a non-negative"),

@@ -332,25 +332,12 @@ def test_icp_normal_angle_estimates_missing_normals_and_rejects_bad_values(scan_
 
 @pytest.fixture(scope="module")
 def views(data_dir):
-    """Four partial 'scans' of the shared bunny seen from four sides (the samples whose outward
-    normal faces the view), each with 0.2% noise, in its own frame: scan i = pose_i⁻¹ · points
-    (pose_0 the identity, the others 25° and 5% of the diagonal away); the start poses are the
-    true ones perturbed by 10° and 2% of the diagonal."""
+    """Four partial 'scans' of the shared bunny seen from four sides (datasets.partial_views: 4,000
+    samples each, 0.2% noise, each in its own frame 25° and 5% of the diagonal from the first; the
+    starts 10° and 2% of the diagonal off the truth)."""
     V, F = io.read_mesh(data_dir / "bunny.off")
-    diagonal = float(np.linalg.norm(V.max(0) - V.min(0)))
-    P, N = datasets.sample_points(V, F, 30000, seed=4)
-    rng = np.random.default_rng(5)
-    scans, poses, starts = [], [], []
-    for k, azimuth in enumerate(np.radians([0.0, 90.0, 180.0, 270.0])):
-        view = np.array([np.cos(azimuth), 0.0, np.sin(azimuth)])      # bunny.off's up axis is y
-        seen = np.flatnonzero(N @ view > -0.1)
-        part = P[rng.permutation(seen)[:4000]]
-        part = part + 0.002 * diagonal * rng.normal(size=part.shape)
-        pose = np.eye(4) if k == 0 else random_motion(rng, 25.0, 0.05 * diagonal)
-        scans.append(registration.apply_transform(np.linalg.inv(pose), part))
-        poses.append(pose)
-        starts.append(pose if k == 0 else pose @ random_motion(rng, 10.0, 0.02 * diagonal))
-    return dict(V=V, diagonal=diagonal, scans=scans, poses=np.array(poses), starts=np.array(starts))
+    scans, poses, starts, diagonal = datasets.partial_views(V, F)
+    return dict(V=V, diagonal=diagonal, scans=scans, poses=poses, starts=starts)
 
 
 def pose_errors(found, truth, V, diagonal):

@@ -25,7 +25,7 @@ from .core import Mesh, PointCloud
 _ICOSPHERE_MAX_SUBDIVISIONS = 10
 
 __all__ = ["MAX_ELEMENTS", "icosphere", "uv_sphere", "torus", "grid", "disk", "cube", "noisy", "sample_points",
-           "sphere_points", "ScanPair", "scan_pair"]
+           "sphere_points", "ScanPair", "scan_pair", "PartialViews", "partial_views"]
 
 
 # --- parameter checks --------------------------------------------------------------------------
@@ -426,3 +426,67 @@ def scan_pair(V: ArrayLike, F: ArrayLike, *, n_source: int = 4000, n_target: int
     motion[:3, 3] = translation * diagonal * _unit(rng.normal(size=3))
     source = np.vstack([noisy_points, wrong]) @ motion[:3, :3].T + motion[:3, 3]
     return ScanPair(source, target, target_normals, motion, n_outliers, diagonal)
+
+
+class PartialViews(NamedTuple):
+    """Result of :func:`partial_views`; unpacks as ``scans, poses, starts, diagonal``.
+
+    scans: list of (n_points, 3) float64 arrays, view i in its own frame (``pose_i⁻¹ · points``);
+    poses: (n_views, 4, 4) the true poses (pose 0 the identity); starts: (n_views, 4, 4) the true
+    poses perturbed (start 0 the identity), the initial guesses of a multi-view registration;
+    diagonal: the mesh's bounding-box diagonal, the unit of noise and shifts.
+    """
+    scans: list[FloatArray]
+    poses: FloatArray
+    starts: FloatArray
+    diagonal: float
+
+
+def _random_motion(rng: np.random.Generator, angle: float, shift: float) -> FloatArray:
+    """A rigid motion: rotation by `angle` degrees about a random axis, translation of length `shift`."""
+    T = np.eye(4)
+    T[:3, :3] = _rotation(_unit(rng.normal(size=3)), np.radians(angle))
+    T[:3, 3] = shift * _unit(rng.normal(size=3))
+    return T
+
+
+def partial_views(V: ArrayLike, F: ArrayLike, *, n_views: int = 4, n_points: int = 4000, noise: float = 0.002,
+                  pose_angle: float = 25.0, pose_shift: float = 0.05, start_angle: float = 10.0,
+                  start_shift: float = 0.02, n_samples: int = 30000, seed: int = 4) -> PartialViews:
+    """Partial "scans" of the surface (V, F) seen from ``n_views`` directions around the y axis,
+    each in its own frame, with known poses (the §2.3.1 multi-view tests and benchmark).
+
+    ``n_samples`` surface samples (:func:`sample_points` with ``seed``); view i keeps
+    ``n_points`` of those whose outward normal faces its direction (cos a, 0, sin a),
+    a = 2πi/n_views (normal · direction > −0.1), adds Gaussian noise of ``noise`` diagonals, and is
+    expressed in its frame: scan i = pose_i⁻¹ · points, pose_0 the identity and the others
+    ``pose_angle`` degrees about a random axis and ``pose_shift`` diagonals away; start i is
+    pose_i perturbed by ``start_angle`` degrees and ``start_shift`` diagonals. Views, noise and
+    motions draw from ``seed + 1``: the same seed gives the same views.
+
+    Raises InputError for a bad mesh, n_views < 1, n_points < 1, a view with fewer than n_points
+    samples facing it, or a negative or non-finite noise, angle or shift.
+    """
+    V, F = _mesh_arrays(V, F)
+    n_views, n_points = _integer("n_views", n_views, 1), _integer("n_points", n_points, 1)
+    n_samples = _integer("n_samples", n_samples, 1)
+    noise = _non_negative("noise", noise)
+    pose_angle, pose_shift = _non_negative("pose_angle", pose_angle), _non_negative("pose_shift", pose_shift)
+    start_angle, start_shift = _non_negative("start_angle", start_angle), _non_negative("start_shift", start_shift)
+    diagonal = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
+    P, N = sample_points(V, F, n_samples, seed=_seed(seed))
+    assert N is not None  # sample_points always gives the face normals
+    rng = np.random.default_rng(_seed(seed) + 1)
+    scans, poses, starts = [], [], []
+    for k in range(n_views):
+        azimuth = 2.0 * np.pi * k / n_views
+        seen = np.flatnonzero(N @ np.array([np.cos(azimuth), 0.0, np.sin(azimuth)]) > -0.1)
+        if len(seen) < n_points:
+            raise InputError(f"view {k} sees {len(seen)} of the {n_samples} samples, fewer than n_points={n_points}")
+        part = P[rng.permutation(seen)[:n_points]]
+        part = part + noise * diagonal * rng.normal(size=part.shape)
+        pose = np.eye(4) if k == 0 else _random_motion(rng, pose_angle, pose_shift * diagonal)
+        scans.append(np.ascontiguousarray((part - pose[:3, 3]) @ pose[:3, :3]))   # pose⁻¹ · part
+        poses.append(pose)
+        starts.append(pose if k == 0 else pose @ _random_motion(rng, start_angle, start_shift * diagonal))
+    return PartialViews(scans, np.array(poses), np.array(starts), diagonal)
