@@ -295,3 +295,17 @@ def test_bad_rounding_raises_input_error():
         cross_field(V, F, rounding="fast")
     with pytest.raises(meshsmith.InputError, match="rounding"):
         cross_field(V, F, rounding=None)
+
+
+def test_quadrangulate_passes_the_rounding_through():
+    # (here, not in test_quadrangulation_pipeline, to keep that file's edits with the pipeline's)
+    from meshsmith.quadrangulation import quadrangulate
+
+    V, F = datasets.torus(1.0, 0.4, 48, 20)
+    fractions = []
+    Vq, Q, report = quadrangulate(V, F, target_faces=300, rounding="greedy",
+                                  progress=lambda f, s: fractions.append(f))
+    assert report.extraction.complete and len(report.singular_vertices) == 0 and report.irregular_vertices == 0
+    assert fractions == sorted(fractions) and fractions[-1] == pytest.approx(1.0)
+    with pytest.raises(meshsmith.InputError, match="rounding"):
+        quadrangulate(V, F, target_faces=300, rounding="exact")
