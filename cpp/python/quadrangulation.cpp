@@ -51,12 +51,15 @@ py::dict cut_dict(FieldCut cut) {
 void bind_quadrangulation(py::module_& m) {
   m.def("cross_field", [](const py::object& V, const py::object& F, const std::string& align, double sharp_angle,
                           const py::object& constraint_faces, const py::object& constraint_directions,
-                          double curvature_weight, const py::object& callback) {
+                          double curvature_weight, const std::string& rounding, const py::object& callback) {
     const MeshArguments mesh(V, F);
     CrossFieldOptions options;
     options.align = parse_choice<FieldAlignment>(align, "align", {{"curvature", FieldAlignment::curvature},
                                                                   {"smooth", FieldAlignment::smooth},
                                                                   {"boundary", FieldAlignment::boundary}});
+    options.rounding = parse_choice<FieldRounding>(rounding, "rounding", {{"none", FieldRounding::none},
+                                                                          {"resolve", FieldRounding::resolve},
+                                                                          {"greedy", FieldRounding::greedy}});
     options.sharp_angle_degrees = sharp_angle;
     options.curvature_weight = curvature_weight;
     if (!constraint_faces.is_none()) {
@@ -71,10 +74,13 @@ void bind_quadrangulation(py::module_& m) {
     out["theta"] = to_numpy(std::move(field.theta));
     out["directions"] = to_numpy(std::move(field.directions));
     out["constrained_faces"] = field.constrained_faces;
+    out["energy"] = field.energy;
+    out["initial_energy"] = field.initial_energy;
+    out["changed_jumps"] = field.changed_jumps;
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("align") = "curvature", py::arg("sharp_angle") = 0.0,
      py::arg("constraint_faces") = py::none(), py::arg("constraint_directions") = py::none(),
-     py::arg("curvature_weight") = 1e-3, py::arg("progress") = py::none(),
+     py::arg("curvature_weight") = 1e-3, py::arg("rounding") = "none", py::arg("progress") = py::none(),
      "A cross field (§5.2.2 step 1); see meshsmith.quadrangulation.cross_field.");
 
   m.def("field_angles", [](const py::object& V, const py::object& F, const py::object& directions) {

@@ -10,6 +10,21 @@
 // Period jumps and indices are read off the resulting angles; the index of a vertex is an
 // integer up to round-off because the connection's holonomy around a vertex equals its angle
 // defect mod 2π, so rounding it gives Poincaré–Hopf exactly.
+//
+// Rounding (options.rounding = resolve | greedy) works on the angle energy of MIQ (Bommes et
+// al. 2009) with unreduced angles. The power-4 field is combed along a dual spanning forest
+// rooted at the hard faces (BFS; one root, face 0, when nothing is hard), so the forest's jumps
+// are 0: that is the gauge, and fixing them loses nothing. The plain real relaxation of the other
+// jumps has the trivial zero-energy minimum of the forest's transported field; the power-4 field
+// is a better one (Knöppel et al. 2013 §6), so it is the relaxed solution the rounding starts
+// from. Greedy rounding (as CoMISo's multiple rounding): every free jump within kBatch of an
+// integer is rounded at once and the angles relaxed by kGlobalSweeps Gauss–Seidel sweeps over
+// all faces; then the jump closest to an integer is rounded, the faces within kRings dual rings
+// of its edge get kLocalSweeps sweeps (the energy of an unrounded edge is zero: its real jump
+// absorbs it, so a sweep sees the rounded and forest edges and the alignment only), the edges
+// there are re-queued, and so on (a lazy heap: O(#E log #E) in all, no refactorization). Last,
+// the angles are solved with every jump fixed — one real SPD factorization that also solves
+// the resolve candidate (the power-4 jumps), so greedy can fall back to it.
 #include "field_geometry.h"
 
 #include <meshsmith/core/errors.h>
@@ -22,7 +37,9 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <queue>
 #include <string>
+#include <tuple>
 
 namespace meshsmith::quadrangulation {
 
@@ -195,6 +212,249 @@ void factorize(Solver& solver, const Eigen::SparseMatrix<Complex>& A) {
   if (solver.info() != Eigen::Success) throw SolverError("cross_field: CHOLMOD failed to factorize the field system");
 }
 
+
+/// w_e = |e|² / (A_f + A_g) per interior edge (0 on the boundary): the smoothness weights.
+std::vector<double> edge_weights(const FieldMesh& mesh) {
+  const auto& incidence = mesh.checked.incidence;
+  std::vector<double> w(incidence.n_edges(), 0.0);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+    if (g < 0) continue;
+    const double length2 = (mesh.V.row(incidence.edges(e, 1)) - mesh.V.row(incidence.edges(e, 0))).squaredNorm();
+    w[e] = length2 / (mesh.area[f] + mesh.area[g]);
+  }
+  return w;
+}
+
+/// The alignment of the angle energy: per face μ_f (0: none) and the target angle θ*_f.
+struct Alignment {
+  std::vector<double> mu;
+  std::vector<double> angle;
+};
+
+/// E(θ) = Σ_e w_e r(θ_g − θ_f − κ_e)² + Σ_f μ_f r(θ_f − θ*_f)², r the residual mod π/2 (the
+/// jumps and the alignment's quarter turns taken nearest).
+double angle_energy(const FieldMesh& mesh, const std::vector<double>& w, const Alignment& alignment,
+                    const Eigen::VectorXd& theta) {
+  double energy = 0.0;
+  for (Eigen::Index e = 0; e < mesh.edge_faces.rows(); ++e) {
+    const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+    if (g < 0) continue;
+    const double r = detail::quarter_residual(theta[g] - theta[f] - mesh.connection[e]);
+    energy += w[e] * r * r;
+  }
+  for (std::size_t f = 0; f < alignment.mu.size(); ++f) {
+    if (alignment.mu[f] == 0) continue;
+    const double r = detail::quarter_residual(theta[f] - alignment.angle[f]);
+    energy += alignment.mu[f] * r * r;
+  }
+  return energy;
+}
+
+/// A choice of integer jumps (combed gauge, per edge) and the angles they were found with.
+struct JumpCandidate {
+  std::vector<int> jumps;
+  Eigen::VectorXd theta;
+};
+
+/// For each candidate, the angles minimizing Σ_e w_e (θ_g − θ_f − κ_e − π/2·p_e)² +
+/// Σ_f μ_f (θ_f − a_f)² with its jumps fixed (a_f: the target θ*_f turned nearest to the
+/// candidate's angle) and the `held` faces kept at the candidate's angles — one factorization.
+std::vector<Eigen::VectorXd> solve_angles(const FieldMesh& mesh, const std::vector<double>& w, const Alignment& alignment,
+                                          const std::vector<char>& held, const std::vector<JumpCandidate>& candidates) {
+  const Eigen::Index m = mesh.n_faces(), n_edges = mesh.edge_faces.rows();
+  std::vector<int> number(m, -1);
+  int n_free = 0;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    if (!held[f]) number[f] = n_free++;
+  }
+  std::vector<Eigen::VectorXd> solved;
+  for (const auto& candidate : candidates) solved.push_back(candidate.theta);
+  if (n_free == 0) return solved;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(n_edges + m);
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n_free);
+  for (Eigen::Index e = 0; e < n_edges; ++e) {
+    const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+    if (g < 0) continue;
+    const int a = number[f], b = number[g];
+    if (a >= 0) diagonal[a] += w[e];
+    if (b >= 0) diagonal[b] += w[e];
+    if (a >= 0 && b >= 0) triplets.emplace_back(std::max(a, b), std::min(a, b), -w[e]);
+  }
+  for (Eigen::Index f = 0; f < m; ++f) {
+    if (number[f] >= 0) diagonal[number[f]] += alignment.mu[f];
+  }
+  for (int i = 0; i < n_free; ++i) triplets.emplace_back(i, i, diagonal[i]);
+  Eigen::SparseMatrix<double> A(n_free, n_free);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  detail::Cholesky solver;
+  detail::configure_cholmod(solver);
+  solver.compute(A);
+  if (solver.info() != Eigen::Success) throw SolverError("cross_field: CHOLMOD failed to factorize the angle system");
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const Eigen::VectorXd& theta = candidates[c].theta;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
+    for (Eigen::Index e = 0; e < n_edges; ++e) {
+      const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+      if (g < 0) continue;
+      const double shift = w[e] * (mesh.connection[e] + kQuarter * candidates[c].jumps[e]);
+      const int a = number[f], b = number[g];
+      if (a >= 0) rhs[a] -= shift;
+      if (b >= 0) rhs[b] += shift;
+      if (a >= 0 && b < 0) rhs[a] += w[e] * theta[g];
+      if (b >= 0 && a < 0) rhs[b] += w[e] * theta[f];
+    }
+    for (Eigen::Index f = 0; f < m; ++f) {
+      const double mu = alignment.mu[f];
+      if (number[f] < 0 || mu == 0) continue;
+      const double target = theta[f] - detail::quarter_residual(theta[f] - alignment.angle[f]);
+      rhs[number[f]] += mu * target;
+    }
+    const Eigen::VectorXd x = solver.solve(rhs);
+    if (!x.allFinite()) throw SolverError("cross_field: the angle solve did not give finite values");
+    for (Eigen::Index f = 0; f < m; ++f) {
+      if (number[f] >= 0) solved[c][f] = x[number[f]];
+    }
+  }
+  return solved;
+}
+
+constexpr double kBatch = 0.1;     // jumps this close to an integer are rounded together, first
+constexpr int kGlobalSweeps = 3;   // Gauss–Seidel sweeps over all faces after that batch
+constexpr int kRings = 2;          // a single rounding relaxes the faces this many dual rings around its edge
+constexpr int kLocalSweeps = 4;    // with this many sweeps
+
+/// The rounded field (FieldRounding::resolve or greedy) from the power-4 angles theta0; see the
+/// top comment. hard: the hard faces (kept exactly). changed: set to the interior edges whose
+/// jump, in the gauge of theta0 combed along the forest, differs from theta0's.
+Eigen::VectorXd round_jumps(const FieldMesh& mesh, FieldRounding rounding, const std::vector<double>& w,
+                            const Alignment& alignment, const std::vector<char>& hard, const Eigen::VectorXd& theta0,
+                            const Progress& progress, Eigen::Index& changed) {
+  const auto& incidence = mesh.checked.incidence;
+  const Eigen::Index m = mesh.n_faces(), n_edges = mesh.edge_faces.rows();
+  // The forest and the combed angles (forest jumps 0).
+  std::vector<char> held(hard.begin(), hard.end());
+  std::vector<int> queue;
+  queue.reserve(m);
+  for (Eigen::Index f = 0; f < m; ++f) {
+    if (hard[f]) queue.push_back(static_cast<int>(f));
+  }
+  const bool anchored = !queue.empty() || std::any_of(alignment.mu.begin(), alignment.mu.end(), [](double x) { return x > 0; });
+  if (queue.empty()) {
+    queue.push_back(0);
+    if (!anchored) held[0] = 1;  // E is invariant under a global turn: pinning one face loses nothing
+  }
+  std::vector<char> reached(m, 0), fixed(n_edges, 0);
+  for (const int f : queue) reached[f] = 1;
+  Eigen::VectorXd theta = theta0;
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int f = queue[head];
+    for (int k = 0; k < 3; ++k) {
+      const int e = incidence.side_edge[3 * f + k];
+      const int g = mesh.other_face(e, f);
+      if (g < 0 || reached[g]) continue;
+      reached[g] = 1, fixed[e] = 1;
+      const double t = mesh.transport(e, f);
+      theta[g] = theta[f] + t + detail::quarter_residual(theta0[g] - theta[f] - t);
+      queue.push_back(g);
+    }
+  }
+  auto relaxed_jump = [&](int e) {
+    return (theta[mesh.edge_faces(e, 1)] - theta[mesh.edge_faces(e, 0)] - mesh.connection[e]) / kQuarter;
+  };
+  auto interior = [&](int e) { return mesh.edge_faces(e, 1) >= 0; };
+  JumpCandidate resolve{std::vector<int>(n_edges, 0), theta};
+  for (Eigen::Index e = 0; e < n_edges; ++e) {
+    if (interior(static_cast<int>(e))) resolve.jumps[e] = static_cast<int>(std::lround(relaxed_jump(static_cast<int>(e))));
+  }
+  std::vector<JumpCandidate> candidates{resolve};
+  if (rounding == FieldRounding::greedy) {
+    std::vector<int> jump(n_edges, 0);
+    std::vector<double> aligned(m, 0.0);  // the alignment targets turned nearest to the start
+    for (Eigen::Index f = 0; f < m; ++f) {
+      if (alignment.mu[f] > 0) aligned[f] = theta[f] - detail::quarter_residual(theta[f] - alignment.angle[f]);
+    }
+    auto sweep = [&](int f) {  // θ_f minimizing its rounded/forest edges' and alignment terms
+      if (held[f]) return;
+      double numerator = alignment.mu[f] * aligned[f], denominator = alignment.mu[f];
+      for (int k = 0; k < 3; ++k) {
+        const int e = incidence.side_edge[3 * f + k];
+        const int g = mesh.other_face(e, f);
+        if (g < 0 || !fixed[e]) continue;
+        const double shift = mesh.connection[e] + kQuarter * jump[e];  // θ_f1 ≈ θ_f0 + shift
+        numerator += w[e] * (mesh.edge_faces(e, 0) == f ? theta[g] - shift : theta[g] + shift);
+        denominator += w[e];
+      }
+      if (denominator > 0) theta[f] = numerator / denominator;
+    };
+    auto distance = [&](int e) {
+      const double x = relaxed_jump(e);
+      return std::abs(x - std::round(x));
+    };
+    for (Eigen::Index e = 0; e < n_edges; ++e) {
+      if (interior(static_cast<int>(e)) && !fixed[e] && distance(static_cast<int>(e)) < kBatch) {
+        jump[e] = static_cast<int>(std::lround(relaxed_jump(static_cast<int>(e))));
+        fixed[e] = 1;
+      }
+    }
+    for (int s = 0; s < kGlobalSweeps; ++s) {
+      for (Eigen::Index f = 0; f < m; ++f) sweep(static_cast<int>(f));
+    }
+    progress.report(0.93, "cross field");
+    using Entry = std::tuple<double, int, int>;  // (distance, edge, stamp)
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    std::vector<int> stamp(n_edges, 0);
+    for (Eigen::Index e = 0; e < n_edges; ++e) {
+      if (interior(static_cast<int>(e)) && !fixed[e]) heap.emplace(distance(static_cast<int>(e)), static_cast<int>(e), 0);
+    }
+    std::vector<int> seen(m, -1), region;
+    int step = 0;
+    while (!heap.empty()) {
+      const auto [d, e, version] = heap.top();
+      heap.pop();
+      if (fixed[e] || version != stamp[e]) continue;
+      jump[e] = static_cast<int>(std::lround(relaxed_jump(e)));
+      fixed[e] = 1;
+      ++step;
+      region.assign({mesh.edge_faces(e, 0), mesh.edge_faces(e, 1)});
+      seen[region[0]] = seen[region[1]] = step;
+      for (std::size_t begin = 0, ring = 0; ring < static_cast<std::size_t>(kRings); ++ring) {
+        const std::size_t end = region.size();
+        for (std::size_t i = begin; i < end; ++i) {
+          for (int k = 0; k < 3; ++k) {
+            const int g = mesh.other_face(incidence.side_edge[3 * region[i] + k], region[i]);
+            if (g >= 0 && seen[g] != step) seen[g] = step, region.push_back(g);
+          }
+        }
+        begin = end;
+      }
+      for (int s = 0; s < kLocalSweeps; ++s) {
+        for (const int f : region) sweep(f);
+      }
+      for (const int f : region) {
+        for (int k = 0; k < 3; ++k) {
+          const int a = incidence.side_edge[3 * f + k];
+          if (!interior(a) || fixed[a]) continue;
+          heap.emplace(distance(a), a, ++stamp[a]);
+        }
+      }
+    }
+    candidates.push_back({jump, theta});
+  }
+  progress.report(0.96, "cross field");
+  const auto solved = solve_angles(mesh, w, alignment, held, candidates);
+  // greedy: its own result unless the resolve candidate's energy is lower
+  std::size_t best = solved.size() - 1;
+  if (angle_energy(mesh, w, alignment, solved[0]) < angle_energy(mesh, w, alignment, solved[best])) best = 0;
+  theta = solved[best];
+  changed = 0;
+  for (Eigen::Index e = 0; e < n_edges; ++e) {
+    if (interior(static_cast<int>(e))) changed += std::lround(relaxed_jump(static_cast<int>(e))) != resolve.jumps[e];
+  }
+  return theta;
+}
+
 }  // namespace
 
 FieldEdges field_edges(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta) {
@@ -292,7 +552,11 @@ CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOpt
       throw InputError("cross_field: curvature_weight must be a finite number ≥ 0");
     }
     curvature_targets(mesh, F, options.curvature_weight, mu, target);
+    for (Eigen::Index f = 0; f < m; ++f) {
+      if (hard.fixed[f]) mu[f] = 0.0;  // a hard face's alignment is constant
+    }
   }
+  const std::vector<double> weight = edge_weights(mesh);
   progress.report(0.2, "cross field");
 
   // Free faces are numbered; the system has the blocks of the free faces only.
@@ -308,8 +572,7 @@ CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOpt
   for (Eigen::Index e = 0; e < n_edges; ++e) {
     const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
     if (g < 0) continue;
-    const double length2 = (mesh.V.row(incidence.edges(e, 1)) - mesh.V.row(incidence.edges(e, 0))).squaredNorm();
-    const double w = length2 / (mesh.area[f] + mesh.area[g]);
+    const double w = weight[e];
     const Complex r = std::polar(1.0, 4 * mesh.connection[e]);  // z_g ≈ r z_f
     const int a = free_index[f], b = free_index[g];
     if (a >= 0) diagonal[a] += w;
@@ -398,6 +661,18 @@ CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOpt
     const Complex value = hard.fixed[f] ? hard.value[f] : z[free_index[f]];
     double angle = std::arg(value) / 4;
     out.theta[f] = angle - kQuarter * std::floor(angle / kQuarter);
+  }
+  Alignment alignment{mu, std::vector<double>(m, 0.0)};
+  for (Eigen::Index f = 0; f < m; ++f) {
+    if (mu[f] > 0) alignment.angle[f] = std::arg(target[f]) / 4;
+  }
+  out.initial_energy = out.energy = angle_energy(mesh, weight, alignment, out.theta);
+  if (options.rounding != FieldRounding::none) {
+    const Eigen::VectorXd rounded =
+        round_jumps(mesh, options.rounding, weight, alignment, hard.fixed, out.theta, progress, out.changed_jumps);
+    // (the hard faces are forest roots: their angles come back as the power-4 field had them)
+    for (Eigen::Index f = 0; f < m; ++f) out.theta[f] = rounded[f] - kQuarter * std::floor(rounded[f] / kQuarter);
+    out.energy = angle_energy(mesh, weight, alignment, out.theta);
   }
   out.directions.resize(m, 3);
   for (Eigen::Index f = 0; f < m; ++f) {

@@ -28,7 +28,11 @@ class CrossField(Unpackable):
     edge_faces: (e, 2) int64 the faces on each side, the first one's side running i → j (−1 on a
     boundary); connection: (e,) float64 parallel-transport angle κ from the first face's frame
     to the second's; period_jumps: (e,) int64 p with θ_g − θ_f − κ − p·π/2 in [−π/4, π/4);
-    constrained_faces: faces held by a hard constraint.
+    constrained_faces: faces held by a hard constraint; energy: the angle energy E of theta
+    (:func:`cross_field`; NaN for a field from :func:`merge_singularities`, which does not
+    evaluate it); initial_energy: E of the power-4 field before rounding (equal to energy for
+    ``rounding="none"``); changed_jumps: interior edges whose period jump the rounding changed
+    (compared in one gauge: the power-4 angles combed along the rounding's spanning forest).
     """
 
     unpacks = ("theta", "directions")
@@ -39,6 +43,9 @@ class CrossField(Unpackable):
     connection: FloatArray
     period_jumps: IndexArray
     constrained_faces: int
+    energy: float = float("nan")
+    initial_energy: float = float("nan")
+    changed_jumps: int = 0
 
 
 @dataclass(frozen=True)
@@ -60,7 +67,7 @@ FieldLike = Union[CrossField, ArrayLike]
 @_arguments.real_options
 def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constraints: object = None,
                 sharp_angle: float | None = None, curvature_weight: float = 1e-3,
-                progress: ProgressCallback = None) -> CrossField:
+                rounding: str = "none", progress: ProgressCallback = None) -> CrossField:
     """A smooth cross field on a triangle mesh (§5.2.2 step 1; Bommes et al. 2009, in the
     power-4 representation of Knöppel et al. 2013).
 
@@ -79,11 +86,25 @@ def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constra
     one direction of each listed face's cross (projected into the face plane; hard).
     sharp_angle: None, or degrees: interior edges whose dihedral angle exceeds it are features
     and their two faces follow the edge (hard).
+    rounding: how the period jumps are settled, measured by the angle energy
+    E = Σ_e w (θ_f + κ + π/2·p − θ_g)² + Σ_f μ_f (θ_f − θ*_f + π/2·q_f)² (p, q integers; μ_f the
+    curvature term's weight, both terms the power-4 ones' second-order expansion ÷ 16):
+    ``"none"`` — the power-4 field as solved (the default); ``"resolve"`` — its jumps kept, the
+    free angles re-solved to minimize E (one real sparse solve); ``"greedy"`` — greedy
+    mixed-integer rounding of the jumps (Bommes et al. 2009, as CoMISo): the jumps of a dual
+    spanning forest rooted at the hard faces fixed (the gauge), the others started as reals from
+    the power-4 field, rounded (all those within 0.1 of an integer at once, then the closest one
+    at a time, each followed by a few Gauss–Seidel sweeps of the angles around it), and the
+    angles solved with every jump fixed; when that E is above ``"resolve"``'s, the ``"resolve"``
+    field is returned. Neither raises E above the power-4 field's; hard constraints stay exact.
     Returns a :class:`CrossField` (unpacks as ``theta, directions``).
     Raises InputError for non-manifold, unoriented or multi-component input, zero-area or
     repeated-index faces (clean it first: :func:`meshsmith.repair.clean`, ``meshsmith clean``),
-    a constraint face out of range, a NaN or zero constraint direction, or an unknown align.
+    a constraint face out of range, a NaN or zero constraint direction, or an unknown align or
+    rounding.
     """
+    if not isinstance(rounding, str):  # (the binding names the choices; a non-string would be a TypeError)
+        raise InputError(f"rounding = {rounding!r}: expected 'none', 'resolve' or 'greedy'")
     mesh = on_referenced_vertices(V, F)
     faces: object = None
     directions: object = None
@@ -98,11 +119,13 @@ def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constra
             raise InputError(f"cross_field: sharp_angle must be in (0, 180) degrees, got {sharp_angle}")
     out = _core.cross_field(mesh.V, mesh.F, align=align, sharp_angle=angle, constraint_faces=faces,
                             constraint_directions=directions, curvature_weight=curvature_weight,
-                            progress=progress)
+                            rounding=rounding, progress=progress)
     edges = mesh.vertex_map[out["edges"]] if mesh.removed else out["edges"]
     return CrossField(theta=out["theta"], directions=out["directions"], edges=edges,
                       edge_faces=out["edge_faces"], connection=out["connection"],
-                      period_jumps=out["period_jumps"], constrained_faces=int(out["constrained_faces"]))
+                      period_jumps=out["period_jumps"], constrained_faces=int(out["constrained_faces"]),
+                      energy=float(out["energy"]), initial_energy=float(out["initial_energy"]),
+                      changed_jumps=int(out["changed_jumps"]))
 
 
 def field_angles(V: ArrayLike, F: ArrayLike, field: FieldLike) -> FloatArray:

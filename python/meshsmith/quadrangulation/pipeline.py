@@ -108,7 +108,7 @@ def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCall
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
                   sharp_angle: float | None = None, merge: bool = True, relax: int = 30,
-                  progress: ProgressCallback = None) -> Quadrangulation:
+                  rounding: str = "none", progress: ProgressCallback = None) -> Quadrangulation:
     """Quadrangulate a triangle mesh: a smooth cross field, its mixed-integer seamless
     parametrization, and the quad mesh of that map's integer grid (§5.2.2; Bommes et al. 2009,
     Ebke et al. 2013).
@@ -117,7 +117,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     :func:`cross_field`). target_faces: about how many quads (the grid size from the surface
     area), or target_edge_length: the quad edge length in input units; neither: MIQ's default
     (twice the mean triangle side). align, sharp_angle: as :func:`cross_field` ("curvature",
-    "boundary" or "smooth"; feature edges above sharp_angle degrees are followed).
+    "boundary" or "smooth"; feature edges above sharp_angle degrees are followed); rounding: the
+    cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
     merge: cancel or separate singularity pairs closer than about a quad edge before MIQ
     (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (3.5 quad edges
     down to 0.5, then 4: the longest merge that does not fold leaves the fewest irregular
@@ -144,7 +145,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     if target_faces is not None:
         target_faces = _arguments.integer(target_faces, "target_faces", 1, 2 ** 24)
     progress = _arguments.progress(progress)
-    field = cross_field(V, F, align=align, sharp_angle=sharp_angle, progress=_stage(progress, 0.0, 0.15))
+    field = cross_field(V, F, align=align, sharp_angle=sharp_angle, rounding=rounding,
+                        progress=_stage(progress, 0.0, 0.15))
     length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
     fixed = _feature_faces(V, F, field, sharp_angle)
     # With features, first with their iso-line constraints, then (if every attempt folds) without.

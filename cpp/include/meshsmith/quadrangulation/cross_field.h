@@ -27,8 +27,17 @@ enum class FieldAlignment {
   boundary,   ///< the boundary (hard), smooth inside
 };
 
+/// How the period jumps are settled after the power-4 solve.
+enum class FieldRounding {
+  none,     ///< the power-4 field as solved (its jumps read off the angles)
+  resolve,  ///< the power-4 field's jumps kept, the angles re-solved for the angle energy E
+  greedy,   ///< greedy mixed-integer rounding of the jumps (Bommes et al. 2009), then the angles re-solved
+};
+
 struct CrossFieldOptions {
   FieldAlignment align = FieldAlignment::curvature;
+  /// FieldRounding::none keeps today's power-4 field (the default).
+  FieldRounding rounding = FieldRounding::none;
   /// Interior edges whose dihedral angle (between the face normals) exceeds this many degrees
   /// are features: their two faces are constrained to the edge direction. ≤ 0: no features.
   double sharp_angle_degrees = 0.0;
@@ -55,6 +64,13 @@ struct CrossField {
   VertexMatrix directions;    ///< #F×3 unit vector of the cross at angle theta (the other three: its rotations about n)
   FieldEdges edges;           ///< connection angles and period jumps
   Eigen::Index constrained_faces = 0;  ///< faces held by a hard constraint (boundary, feature, user)
+  /// The angle energy E of theta (see cross_field), and of the power-4 field before any rounding
+  /// (equal for FieldRounding::none). Normalized units: invariant to scaling the mesh.
+  double energy = 0.0, initial_energy = 0.0;
+  /// Interior edges whose period jump differs from the power-4 field's, both in the gauge of the
+  /// power-4 angles combed along the rounding's forest (the reduced jumps of `edges` change with
+  /// every angle that wraps around 0): how many jumps the rounding changed. 0 for none.
+  Eigen::Index changed_jumps = 0;
 };
 
 struct Singularities {
@@ -71,12 +87,26 @@ struct Singularities {
 /// smooth fields are the smallest eigenvector of the Hermitian connection Laplacian (inverse
 /// iteration, CHOLMOD); constrained or curvature-aligned ones one sparse SPD solve. Where
 /// curvature gives no anisotropic face (a sphere), align = curvature falls back to smooth.
+/// The angle energy of the result is E(θ) = Σ_e w_e r(θ_g − θ_f − κ_fg)² + Σ_f μ_f r(θ_f − θ*_f)²
+/// (r: the residual mod π/2 in [−π/4, π/4), i.e. the period jumps p_fg and the alignment's
+/// quarter turns taken nearest; μ_f = λ·A_f/Ā·a_f, the power-4 terms' second-order
+/// expansion ÷ 16). options.rounding: FieldRounding::none returns the power-4 field;
+/// FieldRounding::resolve keeps its jumps and minimizes E over the free angles (one real SPD
+/// solve); FieldRounding::greedy (Bommes et al. 2009 §4, as CoMISo) fixes the jumps of a dual
+/// spanning forest rooted at the hard faces (the gauge), starts the other jumps as reals from
+/// the power-4 field (its convex relaxation, Knöppel et al. 2013), rounds them greedily — all
+/// those within 0.1 of an integer at once, then one at a time the closest, each followed by a
+/// few Gauss–Seidel sweeps of the angles around it — and solves the angles once with all
+/// jumps fixed; if that E is above the resolve candidate's (same factorization), the resolve
+/// candidate is returned (then changed_jumps counts only the edges whose residual left
+/// [−π/4, π/4) in the re-solve). Both never raise E above the power-4 field's; hard constraints stay exact.
 /// V: #V×3, F: #F×3.
 /// \pre a clean, connected, oriented 2-manifold (parametrization::detail::check_mesh).
 /// \throw InputError naming the offending face, vertex or edge for non-manifold or otherwise
 ///        bad input (and `meshsmith clean`), for a constraint face out of range, or a
 ///        direction that is not finite or is normal to its face; SolverError if CHOLMOD fails.
-/// Complexity: one factorization of a #F × #F sparse complex Hermitian matrix.
+/// Complexity: one factorization of a #F × #F sparse complex Hermitian matrix; resolve and
+/// greedy add one of a real #F × #F SPD matrix (greedy's roundings are local: O(#E) overall).
 CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOptions& options = {},
                        const Progress& progress = {});
 
