@@ -4,7 +4,7 @@ other's boundary and stitching the two boundaries together."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -12,7 +12,7 @@ from .. import _arguments, topology
 from .._core import InputError
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
-from ..geometry import SurfaceDistance
+from ..geometry import SurfaceDistance, face_normals, vertex_normals
 from ..points import KdTree
 from .clean import clean
 from .holes import fill_holes
@@ -55,6 +55,8 @@ class ZipperReport(Unpackable):
     untangled_pairs: int
     boundary_loops_before: int
     boundary_loops_after: int
+    bridged_runs: int = 0
+    bridge_faces: int = 0
 
     unpacks = ("face_source", "face_map")
 
@@ -285,9 +287,135 @@ def _untangle_seam(V: FloatArray, F: IndexArray, source: IndexArray, rows: Index
     return V2, F2, source, rows, removal.initial_pairs - removal.remaining_pairs
 
 
+#: Bridge seam: B's cut vertices farther from A's boundary than this many of B's mean edges are not bridged.
+BRIDGE_REACH = 3.0
+#: Bridge seam: the largest angle between the normals of A and B where B is over A (Turk and Levoy's
+#: test that two surfaces close together are the same surface, not the two sides of a thin part).
+BRIDGE_NORMAL_ANGLE = 60.0
+
+
+def _bridge_runs(V: FloatArray, loops_a: list[IndexArray], loops_b: list[IndexArray],
+                 reach: float) -> tuple[IndexArray, int]:
+    """The triangles of a strip between B's cut and A's rim (Turk and Levoy's gap, bridged without
+    moving a vertex): each run of consecutive vertices of a loop of B within ``reach`` of one loop
+    of A, running against it (so the strip is oriented as both), is zipped to the chain of A's
+    loop vertices between the closest points of its two ends, advancing at each step on the side
+    whose new diagonal is shorter. A chain or run that would reuse a boundary edge already bridged
+    is skipped (its gap stays open). Returns ((t, 3) int64 triangles, runs bridged)."""
+    if not loops_a or not loops_b:
+        return np.zeros((0, 3), dtype=np.int64), 0
+    b_vertices = np.concatenate(loops_b)
+    loop_of, parameter, distance, _ = _closest_on_loops(V[b_vertices], V, loops_a)
+    triangles: list[tuple[int, int, int]] = []
+    used_a: set[tuple[int, int]] = set()
+    runs = 0
+    start = 0
+    for loop in loops_b:
+        n = len(loop)
+        near = distance[start:start + n] <= reach
+        which, where = loop_of[start:start + n], parameter[start:start + n]
+        start += n
+        if not near.any():
+            continue
+        # Runs: maximal cyclic stretches of near vertices on one loop of A.
+        same = near & np.roll(near, -1) & (which == np.roll(which, -1))     # edge i -> i + 1 joins a run
+        if same.all():
+            breaks = [int(np.argmax(where))]          # a whole loop: cut it where A's parameter wraps
+        else:
+            breaks = np.flatnonzero(~same).tolist()
+        for r, first_break in enumerate(breaks):
+            first = (first_break + 1) % n
+            last = breaks[(r + 1) % len(breaks)]
+            length = (last - first) % n + 1 if not same.all() else n
+            run = [(first + t) % n for t in range(length)]
+            if len(run) < 2 or not near[run[0]]:
+                continue
+            L = int(which[run[0]])
+            chain_loop = loops_a[L]
+            m = len(chain_loop)
+            p = where[run]
+            step = (p[:-1] - p[1:] + m / 2) % m - m / 2             # A's parameter should fall along the run
+            if step.sum() <= 0.5:
+                continue
+            j0 = int(np.floor(p[0] + 0.5)) % m
+            count = int(np.floor(step.sum() + 0.5)) + 1
+            if count > m:
+                continue
+            Q = [int(chain_loop[(j0 - t) % m]) for t in range(count)]
+            P = [int(loop[k]) for k in run]
+            edges_a = [(Q[t + 1], Q[t]) for t in range(len(Q) - 1)]
+            if any(e in used_a for e in edges_a):
+                continue
+            used_a.update(edges_a)
+            i = j = 0
+            while i < len(P) - 1 or j < len(Q) - 1:
+                advance_p = j == len(Q) - 1 or (
+                    i < len(P) - 1 and np.linalg.norm(V[P[i + 1]] - V[Q[j]]) <= np.linalg.norm(V[P[i]] - V[Q[j + 1]]))
+                if advance_p:
+                    triangles.append((P[i + 1], P[i], Q[j]))
+                    i += 1
+                else:
+                    triangles.append((Q[j], Q[j + 1], P[i]))
+                    j += 1
+            runs += 1
+    T = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    T = T[(T[:, 0] != T[:, 1]) & (T[:, 1] != T[:, 2]) & (T[:, 0] != T[:, 2])]
+    return T, runs
+
+
+def _zipper_bridged(Va: FloatArray, Fa: IndexArray, Vb: FloatArray, Fb: IndexArray, loops_a: list[IndexArray],
+                    loops_before: int, surface: SurfaceDistance, covered: Callable[..., np.ndarray],
+                    tolerance: float, progress: ProgressCallback) -> ZipperedMesh:
+    """:func:`zipper` with ``seam="bridge"``: B's faces over A whose normals agree with A's are
+    removed, and those with a corner within max(tolerance, half of B's mean edge) of A (its rim
+    included), so that B's cut keeps a gap from A; the gap is bridged by :func:`_bridge_runs`,
+    then cleaned, its leftovers closed and its crossings untangled as for ``seam="clip"``."""
+    normals = vertex_normals(Vb, Fb)
+    overlap = covered(Vb[Fb].mean(axis=1), face_normals(Vb, Fb)) | covered(Vb, normals)[Fb].any(axis=1)
+    spacing = float(np.linalg.norm(Vb[Fb] - Vb[np.roll(Fb, -1, axis=1)], axis=2).mean())
+    closest = surface.closest_points(Vb)
+    facing = np.einsum("ij,ij->i", face_normals(Va, Fa)[closest.face], normals) >= np.cos(np.radians(BRIDGE_NORMAL_ANGLE))
+    near = (closest.distance <= max(tolerance, 0.5 * spacing)) & facing
+    overlap |= near[Fb].any(axis=1)
+    removed = int(overlap.sum())
+    face_map_b = np.flatnonzero(~overlap).astype(np.int64)
+    Vb1, Fb1, _ = remove_unreferenced(Vb, Fb[~overlap])
+
+    _arguments.report(progress, 0.5, "zipper: bridging")
+    V = np.vstack([Va, Vb1])
+    F = np.vstack([Fa, Fb1 + len(Va)])
+    loops_b = topology.boundary_loops(Fb1 + len(Va)) if len(Fb1) else []
+    strip, runs = _bridge_runs(V, loops_a, loops_b, BRIDGE_REACH * spacing)
+    F = np.vstack([F, strip])
+    source = np.concatenate([np.zeros(len(Fa), dtype=np.int64), np.ones(len(Fb1), dtype=np.int64),
+                             np.full(len(strip), -1, dtype=np.int64)])
+    rows = np.concatenate([np.arange(len(Fa), dtype=np.int64), face_map_b, np.full(len(strip), -1, dtype=np.int64)])
+    faces_before_clean = len(F)
+    V, F, cleaned = clean(V, F)
+    source, rows = source[cleaned.face_map], rows[cleaned.face_map]
+    degenerate = faces_before_clean - len(F)
+
+    _arguments.report(progress, 0.85, "zipper: closing the seam")
+    fragments = gaps = untangled = 0
+    if len(F) and len(loops_a) and len(Fb1):
+        seam_points = np.vstack([Va[np.concatenate(loops_a)]] + [Vb1[loop] for loop in
+                                                                   topology.boundary_loops(Fb1)])
+        V, F, source, rows, fragments, gaps = _close_seam(V, F, source, rows, seam_points)
+        _arguments.report(progress, 0.9, "zipper: untangling the seam")
+        V, F, source, rows, untangled = _untangle_seam(V, F, source, rows, Va, Fa)
+    _arguments.report(progress, 1.0, "zipper: done")
+    report = ZipperReport(face_source=source, face_map=rows, removed_faces=removed, snapped_vertices=0,
+                          inserted_vertices=0, split_edges=0, merged_vertices=0, removed_degenerate=degenerate,
+                          dropped_fragments=fragments, filled_gaps=gaps, untangled_pairs=untangled,
+                          boundary_loops_before=loops_before,
+                          boundary_loops_after=len(topology.boundary_loops(F)) if len(F) else 0,
+                          bridged_runs=runs, bridge_faces=int((source == -1).sum()))
+    return ZipperedMesh(V, F, report)
+
+
 @_arguments.real_options
 def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolerance: float,
-           progress: ProgressCallback = None) -> ZipperedMesh:
+           seam: str = "clip", progress: ProgressCallback = None) -> ZipperedMesh:
     """Join two registered, overlapping scans into one manifold mesh (§2.4.1, after Turk and Levoy 1994).
 
     1. Overlap: a point is over A when it lies within ``tolerance`` of A's surface (exact
@@ -331,6 +459,8 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise InputError(f"tolerance = {tolerance!r}: expected a finite number > 0")
+    if seam not in ("clip", "bridge"):
+        raise InputError(f"seam = {seam!r}: expected 'clip' or 'bridge'")
     progress = _arguments.progress(progress)
     Va, Fa, _ = remove_unreferenced(VA, FA)
     Vb, Fb, _ = remove_unreferenced(VB, FB)
@@ -339,15 +469,21 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
 
     _arguments.report(progress, 0.0, "zipper: overlap")
     surface = SurfaceDistance(Va, Fa)
+    normals_a = face_normals(Va, Fa)
 
-    def covered(points: FloatArray) -> np.ndarray:
-        """Within tolerance of A, at a closest point not on A's boundary (so over A, not beyond it)."""
+    def covered(points: FloatArray, normals: FloatArray | None = None) -> np.ndarray:
+        """Within tolerance of A, at a closest point not on A's boundary (so over A, not beyond it);
+        with ``normals``, also facing as A's closest face does (within BRIDGE_NORMAL_ANGLE)."""
         closest = surface.closest_points(points)
         inside = closest.distance <= tolerance
         if len(loops_a):
             inside &= ~_on_boundary(Va, Fa, closest.face, closest.point)
+        if normals is not None:
+            inside &= np.einsum("ij,ij->i", normals_a[closest.face], normals) >= np.cos(np.radians(BRIDGE_NORMAL_ANGLE))
         return inside
 
+    if seam == "bridge" and len(Fb):
+        return _zipper_bridged(Va, Fa, Vb, Fb, loops_a, loops_before, surface, covered, tolerance, progress)
     overlap = covered(Vb[Fb].mean(axis=1)) | covered(Vb)[Fb].any(axis=1)
     removed = int(overlap.sum())
     Fb1, face_map_b = Fb[~overlap], np.flatnonzero(~overlap).astype(np.int64)
