@@ -294,6 +294,59 @@ BRIDGE_REACH = 3.0
 BRIDGE_NORMAL_ANGLE = 60.0
 
 
+def _triangle_min_angles(V: FloatArray, T: IndexArray) -> FloatArray:
+    """(t,) the smallest angle (radians) of each triangle of T; 0 for a degenerate one."""
+    P = V[T]
+    smallest = np.full(len(T), np.pi)
+    for c in range(3):
+        u, w = P[:, (c + 1) % 3] - P[:, c], P[:, (c + 2) % 3] - P[:, c]
+        norms = np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1)
+        cosine = np.einsum("ij,ij->i", u, w) / np.where(norms > 0, norms, 1.0)
+        smallest = np.minimum(smallest, np.where(norms > 0, np.arccos(np.clip(cosine, -1.0, 1.0)), 0.0))
+    return smallest
+
+
+def _flip_strip(V: FloatArray, T: IndexArray, F: IndexArray) -> IndexArray:
+    """Lawson's flips inside the bridging strip T (edges two strip triangles share), each taken when
+    it raises the pair's smallest angle, keeps both normals on the side they were, and makes no
+    edge that F or T already has; until none is taken (at most 8 sweeps)."""
+    T = T.copy()
+    if not len(T):
+        return T
+    touching = np.zeros(max(int(F.max(initial=-1)), int(T.max())) + 1, dtype=bool)
+    touching[T.ravel()] = True
+    near = F[touching[F].any(axis=1)]
+    existing = {(int(a), int(b)) for a, b in np.sort(np.vstack([near[:, [0, 1]], near[:, [1, 2]], near[:, [2, 0]]]),
+                                                     axis=1).tolist()}
+    for _ in range(8):
+        side: dict[tuple[int, int], tuple[int, int]] = {}
+        for f, (a, b, c) in enumerate(T.tolist()):
+            for u, w in ((a, b), (b, c), (c, a)):
+                side[(u, w)] = (f, {a, b, c}.difference((u, w)).pop())
+        existing |= {(min(u, w), max(u, w)) for u, w in side}
+        flipped = 0
+        done = np.zeros(len(T), dtype=bool)
+        for (u, w), (f, x) in list(side.items()):
+            if (w, u) not in side or done[f]:
+                continue
+            g, y = side[(w, u)]
+            if done[g] or x == y or (min(x, y), max(x, y)) in existing:
+                continue
+            old = np.array([[u, w, x], [w, u, y]])
+            new = np.array([[x, u, y], [y, w, x]])
+            n_old = np.cross(V[old[:, 1]] - V[old[:, 0]], V[old[:, 2]] - V[old[:, 0]]).sum(axis=0)
+            n_new = np.cross(V[new[:, 1]] - V[new[:, 0]], V[new[:, 2]] - V[new[:, 0]])
+            if (n_new @ n_old <= 0).any() or _triangle_min_angles(V, new).min() <= _triangle_min_angles(V, old).min():
+                continue
+            T[f], T[g] = new
+            done[f] = done[g] = True
+            existing.add((min(x, y), max(x, y)))
+            flipped += 1
+        if not flipped:
+            break
+    return T
+
+
 def _bridge_runs(V: FloatArray, loops_a: list[IndexArray], loops_b: list[IndexArray],
                  reach: float) -> tuple[IndexArray, int]:
     """The triangles of a strip between B's cut and A's rim (Turk and Levoy's gap, bridged without
@@ -363,6 +416,35 @@ def _bridge_runs(V: FloatArray, loops_a: list[IndexArray], loops_b: list[IndexAr
     return T, runs
 
 
+#: Bridge seam: rounds of dropping the seam's faces that cross another face.
+BRIDGE_DROP_ROUNDS = 3
+
+
+def _drop_crossing_seam_faces(V: FloatArray, F: IndexArray, source: IndexArray,
+                              rows: IndexArray) -> tuple[FloatArray, IndexArray, IndexArray, IndexArray, int]:
+    """Where the bridged seam crosses a face (the strip through A's curled rim, a leftover of B
+    through A), the crossing faces that are not A's (strip, patches, B) are dropped, leaving that
+    stretch of the seam open: at most BRIDGE_DROP_ROUNDS rounds of :func:`self_intersections`,
+    each followed by :func:`clean`. Returns (V, F, source, rows, pairs resolved)."""
+    initial = None
+    pairs = self_intersections(V, F)
+    for _ in range(BRIDGE_DROP_ROUNDS):
+        removable = source != 0
+        chosen = pairs[removable[pairs].any(axis=1)] if len(pairs) else pairs
+        if initial is None:
+            initial = len(chosen)
+        if not len(chosen):
+            break
+        drop = np.zeros(len(F), dtype=bool)
+        drop[chosen.ravel()] = True
+        drop &= removable
+        V, F, cleaned = clean(V, F[~drop])
+        source, rows = source[~drop][cleaned.face_map], rows[~drop][cleaned.face_map]
+        pairs = self_intersections(V, F)
+    left = int(((source != 0)[pairs].any(axis=1)).sum()) if len(pairs) else 0
+    return V, F, source, rows, (initial or 0) - left
+
+
 def _zipper_bridged(Va: FloatArray, Fa: IndexArray, Vb: FloatArray, Fb: IndexArray, loops_a: list[IndexArray],
                     loops_before: int, surface: SurfaceDistance, covered: Callable[..., np.ndarray],
                     tolerance: float, progress: ProgressCallback) -> ZipperedMesh:
@@ -386,6 +468,7 @@ def _zipper_bridged(Va: FloatArray, Fa: IndexArray, Vb: FloatArray, Fb: IndexArr
     F = np.vstack([Fa, Fb1 + len(Va)])
     loops_b = topology.boundary_loops(Fb1 + len(Va)) if len(Fb1) else []
     strip, runs = _bridge_runs(V, loops_a, loops_b, BRIDGE_REACH * spacing)
+    strip = _flip_strip(V, strip, F)
     F = np.vstack([F, strip])
     source = np.concatenate([np.zeros(len(Fa), dtype=np.int64), np.ones(len(Fb1), dtype=np.int64),
                              np.full(len(strip), -1, dtype=np.int64)])
@@ -402,7 +485,7 @@ def _zipper_bridged(Va: FloatArray, Fa: IndexArray, Vb: FloatArray, Fb: IndexArr
                                                                    topology.boundary_loops(Fb1)])
         V, F, source, rows, fragments, gaps = _close_seam(V, F, source, rows, seam_points)
         _arguments.report(progress, 0.9, "zipper: untangling the seam")
-        V, F, source, rows, untangled = _untangle_seam(V, F, source, rows, Va, Fa)
+        V, F, source, rows, untangled = _drop_crossing_seam_faces(V, F, source, rows)
     _arguments.report(progress, 1.0, "zipper: done")
     report = ZipperReport(face_source=source, face_map=rows, removed_faces=removed, snapped_vertices=0,
                           inserted_vertices=0, split_edges=0, merged_vertices=0, removed_degenerate=degenerate,
