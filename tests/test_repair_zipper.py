@@ -107,6 +107,8 @@ def test_disjoint_scans_stay_two_pieces_and_bad_input_is_an_input_error():
     for tolerance in (0.0, -1.0, float("nan"), float("inf")):
         with pytest.raises(meshsmith.InputError, match="tolerance"):
             repair.zipper(V, F, V, F, tolerance=tolerance)
+    with pytest.raises(meshsmith.InputError, match="seam"):
+        repair.zipper(V, F, V, F, tolerance=0.1, seam="snap")
     with pytest.raises(meshsmith.InputError):
         repair.zipper(V, F[:, :2], V, F, tolerance=0.1)
     with pytest.raises(meshsmith.InputError):

@@ -530,6 +530,18 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
     A's triangles are all kept (those along its rim split at B's vertices, and such a split face
     refilled where it crossed B); where the two scans do not overlap, their boundaries stay open.
 
+    ``seam="bridge"`` (for raw range scans, whose rims are ragged and whose surfaces interleave by
+    scanner noise in the overlap; ``"clip"`` is the default above): B's faces over A are removed
+    only where their normals agree with A's within BRIDGE_NORMAL_ANGLE = 60° (Turk and Levoy's
+    test, so the two sides of a thin part are not taken for one), and also every face of B with a
+    corner within max(tolerance, half of B's mean edge) of A, rim included, so that B's cut keeps a
+    gap from A instead of being snapped onto it; each run of B's cut within BRIDGE_REACH = 3 mean
+    edges of one loop of A, running against it, is joined to that loop's vertices by a strip of
+    triangles (no vertex moved or added; :func:`_flip_strip` raises its smallest angles), and the
+    strip faces, patches and B faces that still cross another face are dropped (that stretch of
+    the seam left open; untangled_pairs counts them). A's faces are all kept unchanged.
+    bun000 + bun045 (40k + 40k vertices): 23 s at load 19, manifold, oriented, no crossing pair.
+
     VA, VB: (n, 3) float arrays; FA, FB: (m, 3) integer arrays, each a manifold, consistently
     oriented surface (as :func:`clean` returns it) with the same orientation (outward for a
     closed object); tolerance > 0, in the units of V: the largest distance between the two
