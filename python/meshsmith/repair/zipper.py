@@ -554,7 +554,7 @@ def zipper(VA: ArrayLike, FA: ArrayLike, VB: ArrayLike, FB: ArrayLike, *, tolera
     tolerance = float(tolerance)
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise InputError(f"tolerance = {tolerance!r}: expected a finite number > 0")
-    if seam not in ("clip", "bridge"):
+    if not isinstance(seam, str) or seam not in ("clip", "bridge"):
         raise InputError(f"seam = {seam!r}: expected 'clip' or 'bridge'")
     progress = _arguments.progress(progress)
     Va, Fa, _ = remove_unreferenced(VA, FA)
