@@ -417,7 +417,7 @@ def _bridge_runs(V: FloatArray, loops_a: list[IndexArray], loops_b: list[IndexAr
 
 
 #: Bridge seam: rounds of dropping the seam's faces that cross another face.
-BRIDGE_DROP_ROUNDS = 3
+BRIDGE_DROP_ROUNDS = 6
 
 
 def _drop_crossing_seam_faces(V: FloatArray, F: IndexArray, source: IndexArray,
