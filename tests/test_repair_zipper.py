@@ -107,6 +107,8 @@ def test_disjoint_scans_stay_two_pieces_and_bad_input_is_an_input_error():
     for tolerance in (0.0, -1.0, float("nan"), float("inf")):
         with pytest.raises(meshsmith.InputError, match="tolerance"):
             repair.zipper(V, F, V, F, tolerance=tolerance)
+    with pytest.raises(meshsmith.InputError, match="seam"):
+        repair.zipper(V, F, V, F, tolerance=0.1, seam="snap")
     with pytest.raises(meshsmith.InputError):
         repair.zipper(V, F[:, :2], V, F, tolerance=0.1)
     with pytest.raises(meshsmith.InputError):
@@ -119,3 +121,99 @@ def test_a_scan_inside_the_other_is_absorbed():
     V2, F2, report = repair.zipper(V, F, VA, FA, tolerance=1e-6)   # B lies on A entirely
     assert report.removed_faces == len(FA) and len(F2) == len(F)
     assert_one_manifold_piece(V2, F2, loops=0)
+
+
+# ---- real range scans ------------------------------------------------------------------------
+#: Stanford's bun.conf pose of bun045 in bun000's frame (as tests/test_registration.py reads it).
+BUN045_POSE = np.eye(4)
+BUN045_POSE[:3, :3] = Rotation.from_quat([0.00548449, -0.294635, -0.0038555, 0.955586]).as_matrix().T
+BUN045_POSE[:3, 3] = [-0.0520211, -0.000383981, -0.0109223]
+
+
+def range_scan(path, max_edge=4.0):
+    """A raw Cyberware range scan (ASCII PLY with a num_rows × num_cols 'range_grid' element of
+    vertex indices) meshed from its grid: each grid cell with four samples split along its shorter
+    diagonal, one with three gives one triangle; triangles with an edge longer than `max_edge`
+    grid spacings (depth jumps, silhouettes) dropped; oriented towards the scanner (+z). Returns
+    (V, F, spacing) with F cleaned (manifold, oriented)."""
+    lines = path.read_text().splitlines()
+    end = lines.index("end_header")
+    info = {w[1]: w[2] for w in (line.split() for line in lines[:end]) if len(w) == 3 and w[0] in ("obj_info", "element")}
+    rows, cols, n = int(info["num_rows"]), int(info["num_cols"]), int(info["vertex"])
+    V = np.array([line.split() for line in lines[end + 1:end + 1 + n]], dtype=np.float64)
+    grid = np.array([int(line.split()[1]) if line[0] != "0" else -1
+                     for line in lines[end + 1 + n:end + 1 + n + rows * cols]]).reshape(rows, cols)
+    a, b, c, d = grid[:-1, :-1].ravel(), grid[:-1, 1:].ravel(), grid[1:, :-1].ravel(), grid[1:, 1:].ravel()
+    full = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
+    short_bc = full & (np.linalg.norm(V[b] - V[c], axis=1) <= np.linalg.norm(V[a] - V[d], axis=1))
+    short_ad = full & ~short_bc
+    three = (a >= 0).astype(int) + (b >= 0) + (c >= 0) + (d >= 0) == 3
+    F = np.vstack([np.column_stack(t)[m] for t, m in [
+        ((b, c, a), short_bc), ((d, c, b), short_bc), ((d, c, a), short_ad), ((b, d, a), short_ad),
+        ((b, c, a), three & (d < 0)), ((d, c, b), three & (a < 0)), ((b, d, a), three & (c < 0)),
+        ((d, c, a), three & (b < 0))]])
+    spacing = float(np.median(np.linalg.norm(V[a[full]] - V[b[full]], axis=1)))
+    longest = np.linalg.norm(V[F] - V[np.roll(F, -1, axis=1)], axis=2).max(axis=1)
+    V, F, _ = repair.clean(V, F[longest <= max_edge * spacing])
+    for _ in range(3):      # grazing-angle triangles folded over their neighbours: dropped
+        pairs = repair.self_intersections(V, F)
+        if not len(pairs):
+            break
+        keep = np.ones(len(F), dtype=bool)
+        keep[pairs.ravel()] = False
+        V, F, _ = repair.clean(V, F[keep])
+    return V, F, spacing
+
+
+@pytest.mark.parametrize("pose, components, islands_of_b, min_angle", [("bun.conf", 47, 12, 1.0), ("icp", 49, 14, 0.8)])
+def test_raw_bunny_range_scans_bun000_and_bun045_are_zippered(data_dir, pose, components, islands_of_b, min_angle):
+    """bun000 + bun045, the raw Stanford range scans meshed from their range grids, bun045 posed by
+    bun.conf. Each scan is itself in pieces: A 47 edge components (a 68,696-face body, islands of
+    6,046, 1,378, 637 faces and 43 smaller ones where the scanner lost the surface), B 58. With
+    seam="bridge": B's faces over A (within 2 grid spacings, normals within 60°) and within half an
+    edge of A are removed, the gap is bridged by a strip, and the strip faces that still cross A are
+    dropped (the seam stays open there): one manifold, oriented mesh with no self-intersecting pair
+    and every face of A. The same with the pose refined by point-to-plane ICP from bun.conf's (it
+    moves B by at most 0.22 grid spacings)."""
+    paths = [data_dir / name for name in ("bun000.ply", "bun045.ply")]
+    if not all(path.is_file() for path in paths):
+        pytest.skip("bun000.ply / bun045.ply are not in the shared data")
+    VA, FA, spacing = range_scan(paths[0])
+    VB, FB, _ = range_scan(paths[1])
+    for V, F, count in ((VA, FA, 47), (VB, FB, 58)):
+        assert topology.connected_components(F, len(V), connectivity="edge").count == count
+        assert len(repair.self_intersections(V, F)) == 0
+    transform = BUN045_POSE
+    if pose == "icp":
+        transform = meshsmith.registration.icp(VB, VA, method="point_to_plane", trim=0.8, max_iterations=100,
+                                               initial=BUN045_POSE).transform
+    VB = meshsmith.registration.apply_transform(transform, VB)
+    V2, F2, report = repair.zipper(VA, FA, VB, FB, tolerance=2 * spacing, seam="bridge")
+    assert topology.is_manifold(F2) and topology.is_oriented(F2)
+    assert len(repair.self_intersections(V2, F2)) == 0
+    # Every face of A is kept, unchanged (the bridge moves and splits none).
+    np.testing.assert_array_equal(np.sort(report.face_map[report.face_source == 0]), np.arange(len(FA)))
+    def corners(P):     # each face's corners in lexicographic order (a face may start at another corner)
+        order = np.lexsort((P[..., 2], P[..., 1], P[..., 0]), axis=1)
+        return np.take_along_axis(P, order[..., None], axis=1)
+    np.testing.assert_array_equal(corners(V2[F2[report.face_source == 0]]),
+                                  corners(VA[FA[report.face_map[report.face_source == 0]]]))
+    # Most of B is over A: 71,152 of its 76,320 faces removed when this was written.
+    assert 0.9 * len(FB) < report.removed_faces < 0.95 * len(FB)
+    assert report.bridged_runs >= 40 and report.untangled_pairs > 0
+    # The components: A's 47 (its body now joined to B's) and islands of B beyond A (12 of 1-85
+    # faces with bun.conf's pose, 14 with ICP's).
+    labels = topology.connected_components(F2, len(V2), connectivity="edge")
+    has_a = np.bincount(labels.face_labels, weights=report.face_source == 0, minlength=labels.count) > 0
+    assert labels.count == components and (~has_a).sum() == islands_of_b
+    body = np.bincount(labels.face_labels).argmax()     # A's body with B's part beyond it and the strip
+    assert set(report.face_source[labels.face_labels == body].tolist()) == {-1, 0, 1}
+    # The seam's strip: its smallest angle was 1.2°, 1% of its faces below 6.4°, median 29.7° (bun.conf's
+    # pose; ICP's: 0.86°). Slivers remain where A's ragged rim turns sharply beside B's cut.
+    seam = F2[report.face_source == -1]
+    P = V2[seam]
+    angles = np.stack([np.arccos(np.clip(np.einsum("ij,ij->i", P[:, (c + 1) % 3] - P[:, c], P[:, (c + 2) % 3] - P[:, c])
+                                         / np.linalg.norm(P[:, (c + 1) % 3] - P[:, c], axis=1)
+                                         / np.linalg.norm(P[:, (c + 2) % 3] - P[:, c], axis=1), -1, 1))
+                       for c in range(3)]).min(axis=0)
+    assert len(seam) > 500 and np.degrees(angles.min()) > min_angle and np.degrees(np.median(angles)) > 25.0
