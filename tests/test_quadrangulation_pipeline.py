@@ -82,9 +82,10 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
 # manylinux wheel (floating-point differences between the two builds), so there the schedule
 # falls to 2.0 quad edges and gives 32, more than QuadriFlow's 30: the test holds kitten to the
 # 34 of the old shortest-first order instead. The third bounds the mean angle deviation (the
-# measured value + 0.3°).
+# measured value + 0.3°; kitten + 0.9°: its vertices moved by 1e-9 of the diagonal, which sends
+# the schedule to 2.0 quad edges as in the wheel, gave 6.0°).
 SHARED = {"spot.obj": (0.3, 62, 7.1), "pmp-bunny.off": (0.2, 56, 9.1), "rocker-arm.obj": (0.18, 44, 6.1),
-          "fertility.off": (0.2, 66, 7.3), "fandisk.obj": (0.2, 40, 9.0), "kitten.off": (0.18, 35, 6.0)}
+          "fertility.off": (0.2, 66, 7.3), "fandisk.obj": (0.2, 40, 9.0), "kitten.off": (0.18, 35, 6.5)}
 
 
 @pytest.mark.parametrize("name", sorted(SHARED))
