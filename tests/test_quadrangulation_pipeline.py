@@ -145,14 +145,15 @@ def test_fandisk_keeps_its_sharp_edges_as_quad_edges(data_dir):
 
 def test_smoothing_brings_angles_closer_to_right_angles(data_dir):
     # the same quads with and without the tangential smoothing: the mean |angle − 90°| drops
-    # (kitten at 3,000 quads: 7.7° → 5.6°), no quad's scaled Jacobian falls below the unsmoothed
+    # (kitten at 3,000 quads: 7.7° → 5.6°; 8.1° → 6.0° and 7.9° → 7.1° with its vertices moved by
+    # 1e-9 of the diagonal, seeds 1 and 3), no quad's scaled Jacobian falls below the unsmoothed
     # minimum, and the vertices stay on the input surface
     from meshsmith.geometry.metrics import SurfaceDistance
     V, F = io.read_mesh(data_dir / "kitten.off")
     plain = quadrangulate(V, F, target_faces=3000, smooth=0)
     smoothed = quadrangulate(V, F, target_faces=3000)
     assert np.array_equal(plain.Q, smoothed.Q)
-    assert smoothed.report.mean_angle_deviation < plain.report.mean_angle_deviation - 1.0
+    assert smoothed.report.mean_angle_deviation < plain.report.mean_angle_deviation - 0.5
     assert smoothed.report.min_scaled_jacobian >= plain.report.min_scaled_jacobian
     diagonal = np.linalg.norm(V.max(0) - V.min(0))
     assert SurfaceDistance(V, F).distances(smoothed.V).max() < 1e-9 * diagonal
