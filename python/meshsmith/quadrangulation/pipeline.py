@@ -291,9 +291,8 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
     neighbours, less that move's component along the vertex normal (area-weighted quad
     normals), then onto the input surface (closest point). Fixed: boundary vertices and the ends
     of quad edges whose two quads meet at more than `sharp_degrees` (creases the quads follow).
-    A quad whose scaled Jacobian falls below the smaller of its own previous value and the mesh's
-    previous minimum has its corners put back (repeated until none does), so the minimum scaled
-    Jacobian never drops. Rounds stop at the first that does not lower the mean |angle − 90°|
+    A quad whose scaled Jacobian falls below the mesh's previous minimum has its corners put back
+    (repeated until none does, at most ten times), so the minimum scaled Jacobian never drops. Rounds stop at the first that does not lower the mean |angle − 90°|
     (at most `rounds`). Returns (positions, how many vertices moved)."""
     edge_list = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
     unique, inverse, counts = np.unique(edge_list, axis=0, return_inverse=True, return_counts=True)
@@ -349,14 +348,14 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
         move -= np.einsum("ij,ij->i", move, normal)[:, None] * normal
         candidate = P.copy()
         candidate[free] = surface.closest_points(P[free] + move[free]).point
-        floor = min(float(jacobian.min()), RELAX_BELOW)
+        floor = float(jacobian.min())
         for _ in range(10):
             try:
                 now = quad_quality(candidate, Q).scaled_jacobian
             except InputError:  # a zero-length edge: put everything back
                 candidate, now = P.copy(), jacobian
                 break
-            bad = now < np.minimum(jacobian, floor)
+            bad = now < floor
             if not bad.any():
                 break
             corners = Q[bad].ravel()
