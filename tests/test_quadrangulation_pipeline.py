@@ -72,16 +72,20 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
 
 # The shared meshes at 3,000 quads (measured 2026-12-02): every one flip-free at the first
 # attempt (the merge at 3.5 quad edges), complete, manifold, oriented, with the input's χ, and
-# every quad convex after relaxing the worst ones: minimum scaled Jacobian spot 0.39, pmp-bunny
-# 0.28, rocker-arm 0.22, fertility 0.27, fandisk 0.27, kitten 0.24; irregular vertices 44, 36, 18,
-# 36, 20, 28. The second number bounds the irregular count from above: QuadriFlow's count on the
-# same mesh at the same request (bench_quadrangulation.py, 2026-12-02), which the issue asks us to
-# beat — except kitten, whose MIQ at 3.5 quad edges is flip-free in the source build (28 irregular)
-# but leaves 1 flip in the manylinux wheel (floating-point differences between the two builds), so
-# there the schedule falls to 2.0 quad edges and gives 32, more than QuadriFlow's 30: the test holds
-# kitten to the 34 of the old shortest-first order instead.
-SHARED = {"spot.obj": (0.3, 62), "pmp-bunny.off": (0.2, 56), "rocker-arm.obj": (0.18, 44),
-          "fertility.off": (0.2, 66), "fandisk.obj": (0.2, 40), "kitten.off": (0.18, 35)}
+# every quad convex after relaxing the worst ones and the tangential smoothing: minimum scaled
+# Jacobian spot 0.40, pmp-bunny 0.28, rocker-arm 0.22, fertility 0.27, fandisk 0.28, kitten 0.50;
+# irregular vertices 44, 36, 18, 36, 20, 28; mean |angle − 90°| 5.2°, 6.5°, 5.8°, 6.2°, 8.4°, 5.6°
+# (without the smoothing 7.1°, 8.8°, 6.4°, 7.1°, 8.8°, 7.7°). The second number bounds the
+# irregular count from above: QuadriFlow's count on the same mesh at the same request
+# (bench_quadrangulation.py, 2026-12-02), which the issue asks us to beat — except kitten, whose
+# MIQ at 3.5 quad edges is flip-free in the source build (28 irregular) but leaves 1 flip in the
+# manylinux wheel (floating-point differences between the two builds), so there the schedule
+# falls to 2.0 quad edges and gives 32, more than QuadriFlow's 30: the test holds kitten to the
+# 34 of the old shortest-first order instead. The third bounds the mean angle deviation (the
+# measured value + 0.3°; kitten + 0.9°: its vertices moved by 1e-9 of the diagonal, which sends
+# the schedule to 2.0 quad edges as in the wheel, gave 6.0°; seed 3, 0.75 quad edges, 6.0°).
+SHARED = {"spot.obj": (0.3, 62, 5.5), "pmp-bunny.off": (0.2, 56, 6.8), "rocker-arm.obj": (0.18, 44, 6.1),
+          "fertility.off": (0.2, 66, 6.5), "fandisk.obj": (0.2, 40, 8.7), "kitten.off": (0.18, 35, 6.5)}
 
 
 @pytest.mark.parametrize("name", sorted(SHARED))
@@ -94,9 +98,10 @@ def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
     assert_valid(Vq, Q, euler)
     assert report.singular_indices.sum() == 4 * euler  # Poincaré–Hopf
     assert 0.85 * 3000 < len(Q) < 1.15 * 3000
-    min_jacobian, irregular_bound = SHARED[name]
+    min_jacobian, irregular_bound, angle_bound = SHARED[name]
     assert report.min_scaled_jacobian > min_jacobian
     assert report.irregular_vertices < irregular_bound
+    assert report.mean_angle_deviation < angle_bound
     # kitten needs 4 MIQ solves in the wheel build (3.5, 3.0 and 2.5 quad edges fold there), 1 in the source build
     assert report.miq_attempts <= (4 if name == "kitten.off" else 2) and report.merge_distance > 0
 
@@ -136,6 +141,24 @@ def test_fandisk_keeps_its_sharp_edges_as_quad_edges(data_dir):
     t = np.clip(np.einsum("kij,ij->ki", points[:, None] - A, B - A) / ((B - A) ** 2).sum(1), 0, 1)
     distance = np.linalg.norm(A + t[..., None] * (B - A) - points[:, None], axis=2).min(axis=1)
     assert (distance < 0.05 * report.target_edge_length).mean() >= 0.9
+
+
+def test_smoothing_brings_angles_closer_to_right_angles(data_dir):
+    # the same quads with and without the tangential smoothing: the mean |angle − 90°| drops
+    # (kitten at 3,000 quads: 7.7° → 5.6°; 8.1° → 6.0° and 7.9° → 6.0° with its vertices moved by
+    # 1e-9 of the diagonal, seeds 1 and 3), no quad's scaled Jacobian falls below the unsmoothed
+    # minimum, and the vertices stay on the input surface
+    from meshsmith.geometry.metrics import SurfaceDistance
+    V, F = io.read_mesh(data_dir / "kitten.off")
+    plain = quadrangulate(V, F, target_faces=3000, smooth=0)
+    smoothed = quadrangulate(V, F, target_faces=3000)
+    assert np.array_equal(plain.Q, smoothed.Q)
+    assert smoothed.report.mean_angle_deviation < plain.report.mean_angle_deviation - 0.5
+    assert smoothed.report.min_scaled_jacobian >= plain.report.min_scaled_jacobian
+    diagonal = np.linalg.norm(V.max(0) - V.min(0))
+    assert SurfaceDistance(V, F).distances(smoothed.V).max() < 1e-9 * diagonal
+    with pytest.raises(meshsmith.InputError):
+        quadrangulate(V, F, target_faces=3000, smooth=-1)
 
 
 def test_sphere_is_closed_and_valid():

@@ -34,7 +34,7 @@ class QuadrangulationReport(Unpackable):
     pairs were cancelled or moved apart (:func:`merge_singularities`; 0: not merged);
     feature_edges: feature edges held on integer iso-lines by MIQ (sharp_angle); miq_attempts:
     MIQ solves run (one per merge distance and feature setting tried); relaxed_vertices: quad
-    vertices moved by the relaxation of poorly shaped quads (0 with ``relax=0``);
+    vertices moved by the relaxation of poorly shaped quads or the smoothing (0 with ``relax=0, smooth=0``);
     min_scaled_jacobian_extracted: the minimum scaled Jacobian before that relaxation. The report holds no timings, so
     equal calls give equal reports.
     """
@@ -76,6 +76,9 @@ MERGE_SCHEDULE = (3.5, 3.0, 2.5, 2.0, 1.5, 1.0, 1.25, 0.75, 0.5, 4.0)
 #: dropped (34–36 irregular, 0 feature edges held).
 FEATURE_MERGE_SCHEDULE = (1.0, 1.5, 2.0, 0.5, 2.5, 0.75, 1.25, 3.0, 4.0)
 
+#: Rounds of the tangential smoothing of the quad mesh (`smooth` of :func:`quadrangulate`) at most.
+SMOOTH_ROUNDS = 40
+
 
 @dataclass(frozen=True)
 class Quadrangulation(Unpackable):
@@ -108,7 +111,8 @@ def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCall
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
                   sharp_angle: float | None = None, merge: bool = True, relax: int = 30,
-                  rounding: str = "none", progress: ProgressCallback = None) -> Quadrangulation:
+                  rounding: str = "none", smooth: int = SMOOTH_ROUNDS,
+                  progress: ProgressCallback = None) -> Quadrangulation:
     """Quadrangulate a triangle mesh: a smooth cross field, its mixed-integer seamless
     parametrization, and the quad mesh of that map's integer grid (§5.2.2; Bommes et al. 2009,
     Ebke et al. 2013).
@@ -131,6 +135,11 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     (the non-convex ones MIQ's distortion leaves next to cones): their corners and one ring move
     to the mean of their quad-edge neighbours and back onto the input surface (closest point);
     the round with the largest minimum scaled Jacobian is kept. 0: the extracted mesh as it is.
+    smooth: at most this many rounds of tangential smoothing of every quad vertex (the mean of
+    its quad-edge neighbours, moved within the tangent plane and back onto the input surface;
+    boundary and crease vertices fixed, no quad's scaled Jacobian below the mesh's minimum),
+    stopping at the first round that does not lower the mean |angle − 90°|; 0: none.
+    ``report.relaxed_vertices`` counts the vertices either step moved.
     progress: optional callback (fraction, stage) -> bool (False cancels).
 
     Returns a :class:`Quadrangulation` (unpacks as ``V, Q, report``): always a manifold,
@@ -170,12 +179,17 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     field, param, merge_distance = best
     singular = singularities(V, F, field)
     relax = _arguments.integer(relax, "relax", 0, 1000)
+    smooth = _arguments.integer(smooth, "smooth", 0, 1000)
     quads = extract_quads(V, F, param.UV, progress=_stage(progress, 0.85, 1.0))
     Vq, extracted_jacobian, relaxed = quads.V, float("nan"), 0
     if len(quads.Q):
         extracted_jacobian = float(quad_quality(Vq, quads.Q).scaled_jacobian.min())
         if relax and extracted_jacobian < RELAX_BELOW:
             Vq, relaxed = _relax(Vq, quads.Q, V, F, relax)
+        if smooth:
+            from ..geometry.metrics import SurfaceDistance
+            Vq, smoothed = _smooth_angles(Vq, quads.Q, SurfaceDistance(V, F), smooth)
+            relaxed = max(relaxed, smoothed)
         quality = quad_quality(Vq, quads.Q)
         deviation = np.abs(quality.angles - 90.0)
         mean_deviation, max_deviation = float(deviation.mean()), float(deviation.max())
@@ -268,3 +282,91 @@ def _irregular_vertices(Q: IndexArray, valence: IndexArray) -> int:
     boundary[unique[counts == 1].ravel()] = True
     used = valence > 0
     return int((used & ~boundary & (valence != 4)).sum())
+
+
+
+def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
+                   step: float = 0.5, sharp_degrees: float = 50.0) -> tuple[FloatArray, int]:
+    """Tangential smoothing of a quad mesh on a surface, for corner angles closer to 90° (§5.2.2,
+    after extraction). Vq: (k, 3) float64, Q: (q, 4) int64; surface: a SurfaceDistance of the input.
+
+    Each round moves every free vertex by `step` of the way to the mean of its quad-edge
+    neighbours, less that move's component along the vertex normal (area-weighted quad
+    normals), then onto the input surface (closest point). Fixed: boundary vertices and the ends
+    of quad edges whose two quads meet at more than `sharp_degrees` (creases the quads follow).
+    A quad whose scaled Jacobian falls below the mesh's previous minimum has its corners put back
+    (repeated until none does, at most ten times), so the minimum scaled Jacobian never drops. Rounds stop at the first that does not lower the mean |angle − 90°|
+    (at most `rounds`). Returns (positions, how many vertices moved)."""
+    edge_list = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
+    unique, inverse, counts = np.unique(edge_list, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    n = len(Vq)
+    fixed = np.zeros(n, dtype=bool)
+    fixed[unique[counts == 1].ravel()] = True
+    fixed[unique[counts > 2].ravel()] = True
+
+    def normals(P: FloatArray) -> FloatArray:
+        C = P[Q]
+        normal = np.cross(C, np.roll(C, -1, axis=1)).sum(axis=1)
+        return normal / np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+
+    # creases: interior quad edges whose two quads' normals differ by more than sharp_degrees
+    quad_of = np.repeat(np.arange(len(Q)), 4)
+    order = np.argsort(inverse, kind="stable")
+    interior = counts[inverse[order]] == 2
+    pairs = quad_of[order][interior].reshape(-1, 2)
+    pair_edges = unique[inverse[order][interior].reshape(-1, 2)[:, 0]]
+    nq = normals(Vq)
+    crease = np.einsum("ij,ij->i", nq[pairs[:, 0]], nq[pairs[:, 1]]) < np.cos(np.radians(sharp_degrees))
+    fixed[pair_edges[crease].ravel()] = True
+    degree = np.bincount(unique.ravel(), minlength=n).astype(np.float64)
+    valence = np.bincount(Q.ravel(), minlength=n).astype(np.float64)
+    free = ~fixed & (valence > 0)
+
+    def target(P: FloatArray) -> FloatArray:
+        laplace = np.zeros_like(P)
+        np.add.at(laplace, unique[:, 0], P[unique[:, 1]])
+        np.add.at(laplace, unique[:, 1], P[unique[:, 0]])
+        return laplace / np.maximum(degree, 1)[:, None]
+
+    def vertex_normals(P: FloatArray) -> FloatArray:
+        C = P[Q]
+        area = np.cross(C, np.roll(C, -1, axis=1)).sum(axis=1)
+        out = np.zeros_like(P)
+        for c in range(4):
+            np.add.at(out, Q[:, c], area)
+        return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
+
+    def mean_deviation(P: FloatArray) -> tuple[float, FloatArray]:
+        quality = quad_quality(P, Q)
+        return float(np.abs(quality.angles - 90.0).mean()), quality.scaled_jacobian
+
+    best_deviation, jacobian = mean_deviation(Vq)
+    best, P = Vq, Vq
+    moved = np.zeros(n, dtype=bool)
+    best_moved = 0
+    for _ in range(rounds):
+        move = step * (target(P) - P)
+        normal = vertex_normals(P)
+        move -= np.einsum("ij,ij->i", move, normal)[:, None] * normal
+        candidate = P.copy()
+        candidate[free] = surface.closest_points(P[free] + move[free]).point
+        floor = float(jacobian.min())
+        for _ in range(10):
+            try:
+                now = quad_quality(candidate, Q).scaled_jacobian
+            except InputError:  # a zero-length edge: put everything back
+                candidate, now = P.copy(), jacobian
+                break
+            bad = now < floor
+            if not bad.any():
+                break
+            corners = Q[bad].ravel()
+            candidate[corners] = P[corners]
+        deviation, now = mean_deviation(candidate)
+        if now.min() < float(jacobian.min()) - 1e-12 or deviation >= best_deviation:
+            break
+        moved |= np.any(candidate != P, axis=1)
+        P, jacobian = candidate, now
+        best, best_deviation, best_moved = P, deviation, int(moved.sum())
+    return best, best_moved
