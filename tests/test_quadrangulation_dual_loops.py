@@ -473,3 +473,19 @@ def test_refined_kitten_with_parallel_crossings_falls_short_only_at_neighbouring
         dipoles = [(a, b) for a, ia in zip(vertices, indices) for b, ib in zip(vertices, indices)
                    if ia * ib < 0 and (min(a, b), max(a, b)) in adjacent]
         assert dipoles, f"region with singularities {vertices.tolist()} holds no neighbouring ±1 pair"
+
+
+def test_refined_pmp_bunny_with_parallel_crossings_is_complete(data_dir):
+    # Issue 15 part 7: pmp-bunny's smooth field merged (56 -> 10 singularities) left a ±1 dipole on
+    # neighbouring vertices (16321/16322) in one region, also with refine=1 alone; with the mesh split
+    # 1-to-4 and loops of one family allowed to cross, a loop separates the pair and the layout is
+    # complete: every region a disk with at most one singularity, the dual closed, manifold, χ = 2.
+    V, F = repair.clean(*io.read_mesh(data_dir / "pmp-bunny.off"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    check_complete(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert len(layout.singular_vertices) == 10 and layout.singular_indices.sum() == 8     # 4χ
+    assert (report.region_singularities <= 1).all() and report.euler_layout == report.euler_input == 2
+    assert (layout.singular_vertices < len(V)).all()
+    assert 80 <= len(layout.Q) <= 150
