@@ -489,3 +489,18 @@ def test_refined_pmp_bunny_with_parallel_crossings_is_complete(data_dir):
     assert (report.region_singularities <= 1).all() and report.euler_layout == report.euler_input == 2
     assert (layout.singular_vertices < len(V)).all()
     assert 80 <= len(layout.Q) <= 150
+
+
+def test_refined_fertility_with_parallel_crossings_has_valid_regions_but_valence_two_vertices(data_dir):
+    # Issue 15 part 7, measured state (not complete): fertility (genus 4), its 24 −1 cones after the
+    # merge; split 1-to-4 with loops of one family allowed to cross, every region is a disk with at
+    # most one cone and the layout's χ is the input's −6, but 2 layout vertices have valence 2.
+    V, F = repair.clean(*io.read_mesh(data_dir / "fertility.off"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    check_layout(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert len(layout.singular_vertices) == 24 and (layout.singular_indices == -1).all()   # 4χ = −24
+    assert report.regions_valid and (report.region_euler == 1).all() and (report.region_singularities <= 1).all()
+    assert report.euler_layout == report.euler_input == -6
+    assert not report.complete and report.low_valence_vertices > 0 and "valence 2" in report.failure
