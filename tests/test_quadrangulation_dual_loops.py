@@ -443,3 +443,64 @@ def test_merged_kitten_closes_its_second_family_only_across_its_first(data_dir):
     check_layout(V, F, crossing)
     report = crossing.report
     assert report.non_disk_regions == 0 and report.parallel_crossings > 0 and not report.complete
+
+
+def test_refined_kitten_with_parallel_crossings_falls_short_only_at_neighbouring_dipoles(data_dir):
+    # Issue 15 part 7, measured state (not complete): kitten's smooth field merged to 8 singularities
+    # (4 of each sign), the mesh split 1-to-4 (loops also through the input's triangles) and loops of
+    # one family allowed to cross: every region is a disk and the dual a closed quad layout (each
+    # edge in two quads, once each way) with χ = 0 and no repeated corner. What is left are ±1 dipoles on neighbouring input vertices
+    # (merge_singularities does not cancel them), each sharing a region, and 2 valence-2 vertices.
+    V, F = repair.clean(*io.read_mesh(data_dir / "kitten.off"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=150)
+    check_layout(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert len(layout.singular_vertices) == 8 and layout.singular_indices.sum() == 0   # 4χ = 0
+    assert report.non_disk_regions == 0 and (report.region_euler == 1).all()
+    assert report.degenerate_quads == report.non_manifold_edges == report.non_manifold_vertices == 0
+    assert report.euler_layout == report.euler_input == 0
+    # Every layout edge in exactly two quads, once each way (the quads' own edges: a fan split of
+    # the two quads at a valence-2 vertex would not be a manifold triangle mesh).
+    Q = layout.Q
+    directed = [(int(a), int(b)) for q in Q.tolist() for a, b in zip(q, q[1:] + q[:1])]
+    assert len(set(directed)) == len(directed) and all((b, a) in set(directed) for a, b in directed)
+    assert all(len(set(q)) == 4 for q in Q.tolist())
+    assert len(layout.Vq) - len(directed) // 2 + len(Q) == 0                          # χ of the layout
+    assert not report.complete and report.multi_singular_regions > 0 and report.low_valence_vertices > 0
+    adjacent = edge_set(F)
+    for vertices, indices in singular_groups(layout.F_traced, layout):
+        dipoles = [(a, b) for a, ia in zip(vertices, indices) for b, ib in zip(vertices, indices)
+                   if ia * ib < 0 and (min(a, b), max(a, b)) in adjacent]
+        assert dipoles, f"region with singularities {vertices.tolist()} holds no neighbouring ±1 pair"
+
+
+def test_refined_pmp_bunny_with_parallel_crossings_is_complete(data_dir):
+    # Issue 15 part 7: pmp-bunny's smooth field merged (56 -> 10 singularities) left a ±1 dipole on
+    # neighbouring vertices (16321/16322) in one region, also with refine=1 alone; with the mesh split
+    # 1-to-4 and loops of one family allowed to cross, a loop separates the pair and the layout is
+    # complete: every region a disk with at most one singularity, the dual closed, manifold, χ = 2.
+    V, F = repair.clean(*io.read_mesh(data_dir / "pmp-bunny.off"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    check_complete(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert len(layout.singular_vertices) == 10 and layout.singular_indices.sum() == 8     # 4χ
+    assert (report.region_singularities <= 1).all() and report.euler_layout == report.euler_input == 2
+    assert (layout.singular_vertices < len(V)).all()
+    assert 80 <= len(layout.Q) <= 150
+
+
+def test_refined_fertility_with_parallel_crossings_has_valid_regions_but_valence_two_vertices(data_dir):
+    # Issue 15 part 7, measured state (not complete): fertility (genus 4), its 24 −1 cones after the
+    # merge; split 1-to-4 with loops of one family allowed to cross, every region is a disk with at
+    # most one cone and the layout's χ is the input's −6, but 2 layout vertices have valence 2.
+    V, F = repair.clean(*io.read_mesh(data_dir / "fertility.off"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    check_layout(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert len(layout.singular_vertices) == 24 and (layout.singular_indices == -1).all()   # 4χ = −24
+    assert report.regions_valid and (report.region_euler == 1).all() and (report.region_singularities <= 1).all()
+    assert report.euler_layout == report.euler_input == -6
+    assert not report.complete and report.low_valence_vertices > 0 and "valence 2" in report.failure
