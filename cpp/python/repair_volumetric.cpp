@@ -43,7 +43,7 @@ void bind_repair_volumetric(py::module_& m) {
     return py::make_tuple(to_numpy(std::move(result.V)), indices_to_numpy(result.F), report);
   }, py::arg("V"), py::arg("F"), py::arg("epsilon"), py::arg("rho") = 0.0, py::arg("smoothing") = 3,
      py::arg("max_cells") = std::int64_t(1) << 25, py::arg("dense") = false,
-     py::arg("adaptive_error") = 0.25, py::arg("progress") = py::none(),
+     py::arg("adaptive_error") = 0.0, py::arg("progress") = py::none(),
      "Volumetric repair (§2.4.2). Returns (V, F, report); see meshsmith.repair.volumetric_repair.");
 }
 

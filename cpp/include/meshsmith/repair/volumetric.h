@@ -23,10 +23,10 @@ struct VolumetricOptions {
   std::int64_t max_cells = std::int64_t(1) << 25;  ///< memory cap on the cells stored (sparse: cells of the
                                                   ///< bricks near the surface, and the bricks; dense: all)
   bool dense = false;     ///< true: the whole dense voxel grid (~10 bytes a cell of the bounding box)
-  /// >= 0: coarse output where the surface is flat. The fine mesh is simplified by QEM edge
+  /// >= 0 (opt-in, e.g. 0.25): coarse output where the surface is flat. The fine mesh is simplified by QEM edge
   /// collapses whose quadric error stays below (adaptive_error·ε)² (step 7); 0: one vertex per
   /// boundary corner of the finest cells everywhere.
-  double adaptive_error = 0.25;
+  double adaptive_error = 0.0;
 };
 
 /// What volumetric_repair did.
