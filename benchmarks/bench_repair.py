@@ -253,13 +253,14 @@ start = time.perf_counter()
 V2, F2, report = repair.volumetric_repair(V, F, epsilon=float(sys.argv[2]), grid=sys.argv[3], max_cells=2 ** 34)
 elapsed = time.perf_counter() - start
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-print(peak - before, elapsed, len(F2), report.stored_cells, report.dense_cells)
+print(peak - before, elapsed, len(F2), report.stored_cells, report.dense_cells, report.fine_faces)
 """
 
 
 def peak_memory(V, F, epsilon, grid):
     """(resident memory the call added at its peak in MB, seconds, output faces, stored cells, dense
-    cells) of volumetric_repair in a child process (ru_maxrss minus the resident set before the call)."""
+    cells, fine faces before the adaptive step) of volumetric_repair in a child process (ru_maxrss
+    minus the resident set before the call)."""
     import subprocess
     import tempfile
     with tempfile.TemporaryDirectory() as directory:
@@ -267,7 +268,7 @@ def peak_memory(V, F, epsilon, grid):
         np.savez(path, V=np.asarray(V, dtype=float), F=np.asarray(F, dtype=np.int64))
         out = subprocess.run([sys.executable, "-c", PEAK_MEMORY_SCRIPT, str(path), repr(epsilon), grid],
                              capture_output=True, text=True, check=True).stdout.split()
-    return int(out[0]) / 1024, float(out[1]), int(out[2]), int(out[3]), float(out[4])
+    return int(out[0]) / 1024, float(out[1]), int(out[2]), int(out[3]), float(out[4]), int(out[5])
 
 
 def volumetric(directory):
@@ -297,7 +298,7 @@ def volumetric(directory):
         surface = meshsmith.geometry.SurfaceDistance(V2, F2)
         for label, (W, G, r) in (("sparse", (Vo, Fo, report)), ("dense", (Vd, Fd, dense))):
             d = surface.distances(W)
-            megabytes, _, _, _, _ = peak_memory(V2, F2, epsilon, label)
+            megabytes, _, _, _, _, _ = peak_memory(V2, F2, epsilon, label)
             print(f"  meshsmith {label} grid: {len(G):,} faces, grid {r.shape}, {r.stored_cells:,} cells stored "
                   f"({r.stored_cells / r.dense_cells:.1%} of {r.dense_cells:,.0f}), peak memory of the call "
                   f"{megabytes:.0f} MB, output->input Hausdorff {d.max() / r.cell_size:.2f} cells, "
@@ -305,10 +306,10 @@ def volumetric(directory):
     if directory is not None and not size(False, True):
         Vf, Ff = meshsmith.io.read_mesh(directory / "fandisk.obj")
         epsilon = float(np.ptp(Vf, axis=0).max()) / 500
-        megabytes, seconds, faces, stored, cells = peak_memory(Vf, Ff, epsilon, "sparse")
+        megabytes, seconds, faces, stored, cells, fine = peak_memory(Vf, Ff, epsilon, "sparse")
         print(f"\n## repair: volumetric repair of fandisk.obj at epsilon = extent/500 (sparse grid, one run, "
               f"load average {load_average()})\n  {seconds:.1f} s, peak memory of the call {megabytes:.0f} MB, "
-              f"{faces:,} faces out, {stored:,} cells stored of {cells:.3g} ({stored / cells:.2%}; dense: "
+              f"{faces:,} faces out ({fine:,} before the adaptive step), {stored:,} cells stored of {cells:.3g} ({stored / cells:.2%}; dense: "
               f"~{cells * 10 / 1e9:.0f} GB)")
         check("repair", "volumetric repair of fandisk.obj at extent/500", "stored cells / dense cells",
               stored / cells, 0.1)

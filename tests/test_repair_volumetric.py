@@ -35,7 +35,7 @@ def test_overlapping_cubes_become_their_union():
     V, F = two_cubes()
     assert len(repair.self_intersections(V, F)) > 0
     epsilon = 0.05
-    V2, F2, report = repair.volumetric_repair(V, F, epsilon=epsilon)
+    V2, F2, report = repair.volumetric_repair(V, F, epsilon=epsilon, adaptive_error=0)
     assert_watertight(V2, F2)
     diagonal = report.cell_size * np.sqrt(3)
     assert diagonal == pytest.approx(epsilon)
@@ -121,6 +121,9 @@ def test_bad_input():
                                  max_cells=2 ** 40)
     with pytest.raises(meshsmith.InputError, match="grid"):
         repair.volumetric_repair(V, F, epsilon=0.1, grid="octree")
+    for bad in (-0.1, float("nan"), float("inf")):
+        with pytest.raises(meshsmith.InputError, match="adaptive_error"):
+            repair.volumetric_repair(V, F, epsilon=0.1, adaptive_error=bad)
     with pytest.raises(meshsmith.InputError):
         repair.volumetric_repair(V, F[:, :2], epsilon=0.1)
 
@@ -228,8 +231,8 @@ def test_sparse_grid_gives_the_dense_grids_mesh(case):
     while storing a fraction of the cells."""
     V, F = two_cubes() if case == "cubes" else sphere_with_gap_and_hole(0.04)
     epsilon, rho = (0.05, 0.0) if case == "cubes" else (0.04, 0.25)
-    sparse = repair.volumetric_repair(V, F, epsilon=epsilon, rho=rho)
-    dense = repair.volumetric_repair(V, F, epsilon=epsilon, rho=rho, grid="dense")
+    sparse = repair.volumetric_repair(V, F, epsilon=epsilon, rho=rho, adaptive_error=0)
+    dense = repair.volumetric_repair(V, F, epsilon=epsilon, rho=rho, grid="dense", adaptive_error=0)
     a, b = sparse.report, dense.report
     assert a.shape == b.shape and a.dense_cells == b.dense_cells == np.prod(a.shape)
     assert a.occupied_cells == b.occupied_cells
@@ -328,6 +331,52 @@ def test_memory_follows_the_surface_not_the_volume(data_dir):
           f"{report.stored_cells:,} stored ({report.stored_cells / report.dense_cells:.2%}), {len(F2):,} faces out")
     assert report.dense_cells > 2 ** 25
     assert report.stored_cells < 0.1 * report.dense_cells
-    assert report.stored_cells < 5 * len(F2)
+    assert report.stored_cells < 5 * len(F2) and report.fine_faces == len(F2)
     assert topology.is_manifold(F2) and len(topology.boundary_loops(F2)) == 0 and topology.is_oriented(F2)
     assert SurfaceDistance(V, F).distances(V2[::7]).max() <= epsilon + report.cell_size
+
+
+def one_sided_hausdorff(VA, FA, VB, FB):
+    """Output -> input: the largest distance from the vertices of (VA, FA) and 16 points on each of
+    its faces to the surface (VB, FB)."""
+    return hausdorff_distance(VA, FA, VB, FB, sampled=True, samples_per_face=16, one_sided=True).a_to_b
+
+
+@pytest.mark.parametrize("case", ["cubes", "sphere"])
+def test_adaptive_output_merges_flat_regions(case):
+    """The adaptive step (adaptive_error=0.25) against the fine mesh (adaptive_error=0) of the
+    same solid: both closed, manifold, outward, embedded, with the output->input Hausdorff distance
+    (sampled over the faces, not only at the vertices) within epsilon + one cell; the adaptive mesh
+    has a fraction of the faces, the smallest on the flat-faced union of cubes (measured 566 of 24,100
+    fine faces, 2.3%; 9,302 of 72,912, 12.8%, on the sphere, whose curvature keeps finer triangles;
+    output->input 0.73 and 0.22 cells against a bound of 2.73), and the same volume."""
+    if case == "cubes":
+        V, F = two_cubes()
+        epsilon, fraction = 0.05, ADAPTIVE_FACE_FRACTION["cubes"]
+    else:
+        V, F = datasets.icosphere(5)
+        epsilon, fraction = 0.04, ADAPTIVE_FACE_FRACTION["sphere"]
+    fine = repair.volumetric_repair(V, F, epsilon=epsilon, adaptive_error=0)
+    coarse = repair.volumetric_repair(V, F, epsilon=epsilon, adaptive_error=0.25)
+    assert fine.report.fine_faces == len(fine.F) and fine.report.adaptive_bound == 0
+    assert coarse.report.fine_faces == len(fine.F)
+    assert coarse.report.adaptive_bound == pytest.approx((0.25 * epsilon) ** 2 / 4 ** coarse.report.adaptive_retries)
+    assert 0 < coarse.report.adaptive_max_error <= coarse.report.adaptive_bound
+    h = coarse.report.cell_size
+    for W, G in ((fine.V, fine.F), (coarse.V, coarse.F)):
+        assert_watertight(W, G)
+        assert one_sided_hausdorff(W, G, V, F) <= epsilon + h
+    assert len(coarse.F) <= fraction * len(fine.F)
+    assert volume(coarse.V, coarse.F) == pytest.approx(volume(fine.V, fine.F), rel=0.005)
+    if case == "cubes":
+        # The union's 14 corners are still vertices (within half a cell, as on the fine mesh, plus
+        # the adaptive bound).
+        corners = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+        corners = np.vstack([corners[~np.all((corners > [0, -0.2, -0.3]) & (corners < [1, 0.8, 0.7]), axis=1)],
+                             (corners + [0.5, 0.3, 0.2])[~np.all(np.abs(corners + [0.5, 0.3, 0.2]) < 0.5, axis=1)]])
+        assert len(corners) == 14
+        nearest = np.array([np.linalg.norm(coarse.V - c, axis=1).min() for c in corners])
+        assert nearest.max() < 0.5 * h + 0.25 * epsilon
+
+
+ADAPTIVE_FACE_FRACTION = {"cubes": 0.03, "sphere": 0.16}  # measured 0.023 and 0.128 (the test's docstring)

@@ -287,13 +287,15 @@ def command_repair(args: argparse.Namespace) -> int:
                                 "inside_cells": rebuilt.inside_cells, "closing_cells": rebuilt.closing_cells,
                                 "manifold_cells": rebuilt.manifold_cells, "sharp_vertices": rebuilt.sharp_vertices,
                                 "unconstrained_vertices": rebuilt.unconstrained_vertices,
-                                "untangled_vertices": rebuilt.untangled_vertices}
+                                "untangled_vertices": rebuilt.untangled_vertices, "fine_faces": rebuilt.fine_faces,
+                                "faces": len(F1)}
         nx, ny, nz = rebuilt.shape
         lines.append(f"volumetric: rebuilt on a {nx} x {ny} x {nz} grid of cell {rebuilt.cell_size:.6g} "
                      f"(epsilon {args.volumetric:g}, rho {args.rho or 0.0:g}; {rebuilt.stored_cells:,} cells stored, "
                      f"near the surface); {rebuilt.closing_cells:,} cells closed "
                      f"by rho, {rebuilt.sharp_vertices:,} vertices on sharp features, "
-                     f"{rebuilt.unconstrained_vertices:,} over holes and gaps")
+                     f"{rebuilt.unconstrained_vertices:,} over holes and gaps; {len(F1):,} faces "
+                     f"({rebuilt.fine_faces:,} before flat regions were merged)")
     stages.start("checking")
     intersecting = repair.self_intersections(V1, F1) if len(F1) else np.zeros((0, 2), dtype=np.int64)
     loops = len(topology.boundary_loops(F1)) if len(F1) else 0

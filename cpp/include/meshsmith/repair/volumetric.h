@@ -23,6 +23,10 @@ struct VolumetricOptions {
   std::int64_t max_cells = std::int64_t(1) << 25;  ///< memory cap on the cells stored (sparse: cells of the
                                                   ///< bricks near the surface, and the bricks; dense: all)
   bool dense = false;     ///< true: the whole dense voxel grid (~10 bytes a cell of the bounding box)
+  /// >= 0 (opt-in, e.g. 0.25): coarse output where the surface is flat. The fine mesh is simplified by QEM edge
+  /// collapses whose quadric error stays below (adaptive_error·ε)² (step 7); 0: one vertex per
+  /// boundary corner of the finest cells everywhere.
+  double adaptive_error = 0.0;
 };
 
 /// What volumetric_repair did.
@@ -38,6 +42,10 @@ struct VolumetricReport {
   std::int64_t sharp_vertices = 0; ///< vertices whose QEF has rank >= 2 (on a feature edge or corner)
   std::int64_t unconstrained_vertices = 0;  ///< vertices with no input surface near (closed holes, gaps)
   std::int64_t untangled_vertices = 0;      ///< vertices moved back towards their grid corner to undo a self-intersection
+  std::int64_t fine_faces = 0;     ///< faces of the fine mesh (before the adaptive step; = output faces without it)
+  double adaptive_bound = 0.0;     ///< the quadric bound the adaptive step used (length²; 0: not run)
+  double adaptive_max_error = 0.0; ///< the largest quadric error of a collapse it made (length²)
+  int adaptive_retries = 0;        ///< times the result self-intersected and the bound was quartered (4: the fine mesh is returned)
 };
 
 /// The repaired mesh and its report.
@@ -60,10 +68,10 @@ struct VolumetricResult {
 /// node, and only bricks the stamps or the flood's walls touch store cells, so memory and time follow
 /// the surface's area in cells (× ρ/h), plus one byte and one int32 per brick of the bounding box
 /// (1/512 of the dense grid). Dense: exact Euclidean distance transforms (Felzenszwalb & Huttenlocher)
-/// over every voxel; the same solid. Why bricks and not an adaptive octree: the output has one vertex
-/// per boundary corner of the finest cells either way (this extraction does not merge flat regions into
-/// coarse cells), so an octree would only change how the empty and the enclosed space is stored, which
-/// the coarse brick array already makes 512× smaller; the bricks keep the dense grid's neighbour
+/// over every voxel; the same solid. Why bricks and not an adaptive octree: the fine extraction has one
+/// vertex per boundary corner of the finest cells either way (coarse output comes from step 7), so an
+/// octree would only change how the empty and the enclosed space is stored, which the coarse brick
+/// array already makes 512× smaller; the bricks keep the dense grid's neighbour
 /// arithmetic, its well-composedness fix and so its manifold guarantee unchanged (no cracks between
 /// cells of different size to handle). (3) The solid is made well-composed (no two voxels meeting only
 /// along an edge or at a corner without a common face neighbour, in the solid or in its complement) by
@@ -80,7 +88,20 @@ struct VolumetricResult {
 /// cell. (6) Quads are split along the shorter diagonal; faces found intersecting
 /// (repair::self_intersections) have their vertices moved towards their corners until none is left (the
 /// all-corner voxel surface is embedded); the first check covers every face, later ones only the faces
-/// near the vertices just moved.
+/// near the vertices just moved. (7) Adaptive output (adaptive_error > 0): the fine mesh is simplified
+/// by decimation::decimate_qem (greedy QEM edge collapses, Garland & Heckbert 1997) until the cheapest
+/// collapse would cost more than (adaptive_error·ε)²: a merged vertex's quadric sums its squared
+/// distances to the planes of the fine faces it replaced (weighted by area / mean area, about 1 for these
+/// uniform faces), so it stays within about adaptive_error·ε of each; flat regions become a few large
+/// triangles while creases keep their planes on both sides. Every collapse passes the link condition
+/// (closed, manifold, genus kept) and flips no normal; a result that self-intersects is redone from the
+/// fine mesh with a quarter of the bound, at most three times, then the fine mesh is returned. Why this
+/// and not octree simplification of the dual contour (Ju et al. 2002) with manifold dual contouring's
+/// tests (Schaefer, Ju & Warren 2007): cells merge there only inside aligned octree cells, so a flat
+/// region across a coarse cell's boundary stays fine along it, and its manifold guarantee needs those
+/// extra topology tests; collapses on the fine mesh are not tied to the lattice and the link condition
+/// is the manifold guarantee, from code the decimation chapter already tests. The cost: the fine mesh is
+/// built first, so peak memory follows the fine output (~1 KB a fine face), not the coarse one.
 /// V: #V×3, F: #F×3 (validate_mesh). Memory: sparse, 512 bytes a stored brick + 5 bytes a brick
 /// of the box + ~250 bytes an output vertex; dense, about 10 bytes a voxel.
 /// \throw InputError if validate_mesh fails, epsilon is not finite and > 0, rho is not finite and
