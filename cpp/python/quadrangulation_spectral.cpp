@@ -83,7 +83,7 @@ void bind_quadrangulation_spectral(py::module_& m) {
     out["repair_rounds"] = r.repair_rounds;
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("target_faces") = py::none(), py::arg("target_patches") = py::none(),
-     py::arg("eigenvector") = py::none(), py::arg("coupled") = true, py::arg("progress") = py::none(),
+     py::arg("eigenvector") = py::none(), py::arg("coupled") = false, py::arg("progress") = py::none(),
      "Spectral Morse–Smale quadrangulation (§5.2.1); see meshsmith.quadrangulation.spectral_quadrangulate.");
 }
 

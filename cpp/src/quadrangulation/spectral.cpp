@@ -1038,15 +1038,38 @@ SpectralQuadrangulation coupled_grid(const Surface& S, const MorseSmaleComplex& 
   }
   Eigen::SparseMatrix<double> Z(2 * nc, 2 * n_free), K;
   Z.setFromTriplets(z_triplets.begin(), z_triplets.end());
-  const VertexMatrix zero = VertexMatrix::Zero(m, 3);
-  Eigen::VectorXd weight = Eigen::VectorXd::Ones(m), b;
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(m);
   detail::Cholesky solver;
   detail::configure_cholmod(solver);
   bool analyzed = false;
+  // The Dirichlet energy with the cotangent weights clamped at 0 (Σ w_ij ‖x_i − x_j‖²): the
+  // refined mesh's slivers (edges split by the gap routes and chords, stars at the extrema) have
+  // negative cotangents, under which the plain energy folded hundreds of triangles on spot.
+  const auto assemble = [&](const Eigen::VectorXd& w) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(24 * m);
+    for (Eigen::Index f = 0; f < m; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const int i = Fc(f, (k + 1) % 3), j = Fc(f, (k + 2) % 3);
+        const Eigen::Vector3d a = P.row(i) - P.row(Fc(f, k)), bb = P.row(j) - P.row(Fc(f, k));
+        const double sine = a.cross(bb).norm();
+        if (!(sine > 0)) continue;
+        const double weight_ij = w[f] * std::max(0.0, a.dot(bb) / sine);
+        for (int r = 0; r < 2; ++r) {
+          triplets.emplace_back(2 * i + r, 2 * i + r, weight_ij);
+          triplets.emplace_back(2 * j + r, 2 * j + r, weight_ij);
+          triplets.emplace_back(2 * i + r, 2 * j + r, -weight_ij);
+          triplets.emplace_back(2 * j + r, 2 * i + r, -weight_ij);
+        }
+      }
+    }
+    K.resize(2 * nc, 2 * nc);
+    K.setFromTriplets(triplets.begin(), triplets.end());
+  };
   const auto solve = [&](const Eigen::VectorXd& w) {
-    detail::assemble_energy(P, Fc, zero, zero, w, 2 * nc, K, b);
+    assemble(w);
     const Eigen::SparseMatrix<double> H = Z.transpose() * K * Z;
-    const Eigen::VectorXd g = Z.transpose() * (b - K * c);
+    const Eigen::VectorXd g = -(Z.transpose() * (K * c));
     if (!analyzed) solver.analyzePattern(H), analyzed = true;
     solver.factorize(H);
     if (solver.info() != Eigen::Success) throw SolverError("spectral_quadrangulate: CHOLMOD failed to factorize the coupled map");
@@ -1351,14 +1374,10 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         SpectralQuadrangulation out;
         const LineCounts counts = line_counts(T, C, h, quads);
         CoupledStats coupled;
-        if (options.coupled) {
-          out = coupled_grid(T, C, counts, progress.subrange(0.65, 1.0), coupled);
-          if (!coupled.complete) {  // flips left where the extraction needs none: the next candidate
-            last_problem = "eigenvector " + std::to_string(index) + ": the coupled map keeps " +
-                           std::to_string(coupled.flipped_after) + " flipped triangle(s) and its extraction is incomplete";
-            break;
-          }
-        } else {
+        if (options.coupled) out = coupled_grid(T, C, counts, progress.subrange(0.65, 0.9), coupled);
+        // Where the coupled map keeps flips its extraction cannot untangle (an incomplete grid),
+        // this candidate's cells are mapped one by one instead.
+        if (!coupled.complete) {
           try {
             out = cell_grids(T, C, counts, progress.subrange(0.65, 1.0));
           } catch (const SolverError& error) {  // a folded map: the next candidate
@@ -1366,7 +1385,7 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
             break;
           }
         }
-        out.coupled = options.coupled;
+        out.coupled = coupled.complete;
         out.flipped_before = coupled.flipped_before;
         out.flipped_after = coupled.flipped_after;
         out.repair_rounds = coupled.repair_rounds;
