@@ -139,7 +139,8 @@ def main():
               f"{report.merge_distance / report.target_edge_length:.1f} quad edges, {report.miq_attempts} MIQ solves), "
               f"extraction complete: {report.extraction.complete}, left out {report.extraction.squares_inconsistent} "
               f"squares, min scaled Jacobian {report.min_scaled_jacobian_extracted:.3f} → {report.min_scaled_jacobian:.3f} "
-              f"({report.relaxed_vertices} vertices relaxed)")
+              f"({report.relaxed_vertices} vertices relaxed), coupled map flips {report.flipped_before} → "
+              f"{report.flipped_after} ({report.repair_rounds} stiffening rounds)")
         T = np.concatenate([result.Q[:, [0, 1, 2]], result.Q[:, [0, 2, 3]]])
         bench.check("meshsmith: non-quad faces + non-manifold + unoriented",
                     figures["meshsmith"]["non_quads"] + (not topology.is_manifold(T)) + (not topology.is_oriented(T)), 0)
@@ -213,7 +214,8 @@ def feature_cases(im, qf):
 
 def spectral_cases(im, cases):
     """Spectral Morse–Smale quadrangulation (§5.2.1) against the MIQ pipeline and Instant Meshes at
-    the same quad count ("meshsmith" is spectral_quadrangulate here): the torus above and the
+    the same quad count ("meshsmith" is spectral_quadrangulate here, "meshsmith cells" the same with
+    each cell mapped on its own, coupled=False): the torus above and the
     issue's real meshes at 2,000 quads — quick mode: spot.obj and kitten.off (genus 1); full: also
     rocker-arm.obj (genus 1), fertility.off (genus 4), cheburashka.off, pmp-bunny.off (69,666 faces,
     one round) and bumpy-cube.obj. Printed besides the figures: the eigenvector, cells, critical
@@ -235,12 +237,15 @@ def spectral_cases(im, cases):
         bench = Benchmark("quadrangulation", f"spectral quadrangulation of {name} ({len(F):,} F) to {target:,} quads",
                           repeats=1 if len(F) > 30000 else 3)
         bench.time("meshsmith", lambda: spectral_quadrangulate(V, F, target_faces=target))
+        bench.time("meshsmith cells", lambda: spectral_quadrangulate(V, F, target_faces=target, coupled=False))
         bench.time("meshsmith miq", lambda: quadrangulate(V, F, target_faces=target))
         if im:
             bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
         bench.report()
         result = bench.output("meshsmith")
+        cells = bench.output("meshsmith cells")
         figures = {"spectral": describe(result.V, result.Q, euler, (V, F)),
+                   "spectral cells": describe(cells.V, cells.Q, euler, (V, F)),
                    "miq": describe(bench.output("meshsmith miq").V, bench.output("meshsmith miq").Q, euler, (V, F))}
         if "Instant Meshes" in bench.outputs:
             figures["Instant Meshes"] = describe(*bench.output("Instant Meshes"), euler, (V, F))
@@ -250,7 +255,8 @@ def spectral_cases(im, cases):
               f"{report.maxima} max / {report.saddles} saddles / {report.minima} min after cancelling "
               f"{report.cancelled_extrema} extrema, {report.refinements} refinement(s), {report.gap_routes} lines "
               f"through gaps, inverted quads {report.inverted_before_relaxing} → {report.inverted_quads} "
-              f"({report.relaxed_vertices} vertices relaxed)")
+              f"({report.relaxed_vertices} vertices relaxed), coupled map flips {report.flipped_before} → "
+              f"{report.flipped_after} ({report.repair_rounds} stiffening rounds)")
         bench.check("spectral: non-quads + invalid (manifold, oriented, χ)",
                     figures["spectral"]["non_quads"] + (not figures["spectral"]["valid"]), 0)
         bench.check("spectral: |#max − #saddle + #min − χ|",

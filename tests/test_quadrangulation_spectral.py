@@ -32,8 +32,17 @@ def check_quad_mesh(V, F, result, volume_tolerance=0.1):
     corners = result.patch_corners
     assert corners.shape == (report.patches, 4)
     assert all(len(set(row)) == 4 for row in corners.tolist())
-    for p in range(report.patches):
-        assert set(corners[p]) <= set(Q[result.quad_patch == p].ravel())
+    if report.coupled:
+        # the coupled map's grid: cell corners on integer points, hence quad vertices; a simple
+        # saddle has 4 cells around it, so the only irregular vertices are the extrema (corners 0, 2)
+        assert report.flipped_after <= report.flipped_before
+        assert (corners >= 0).all() and set(corners.ravel()) <= set(Q.ravel())
+        irregular = set(np.flatnonzero(quad_quality(Vq, Q).valence != 4).tolist())
+        assert irregular <= set(corners.ravel().tolist())
+        assert report.multi_saddles > 0 or irregular <= set(corners[:, [0, 2]].ravel().tolist())
+    else:
+        for p in range(report.patches):
+            assert set(corners[p]) <= set(Q[result.quad_patch == p].ravel())
     # Euler's formula for a quad complex on a closed surface: a saddle of multiplicity k - 1 has
     # 2k lines and corners, each cell two saddle corners, so k cells per saddle vertex (2 when simple)
     assert report.patches == report.saddles + report.saddle_vertices
@@ -111,6 +120,19 @@ def test_torus_quadrangulation():
     assert result.report.irregular_vertices == 0
 
 
+def test_torus_coupled_map():
+    # The coupled parametrization (cells' charts linked by transition functions, corners on
+    # integer points) extracted by QEx: complete on the torus, no irregular vertex, and every
+    # flip the first solve had repaired (measured: 9 -> 0).
+    V, F = datasets.torus(1.0, 0.4, 64, 24)
+    result = spectral_quadrangulate(V, F, target_faces=800, coupled=True)
+    report = result.report
+    assert report.coupled and report.flipped_after == 0 < report.flipped_before
+    jacobian, hausdorff = check_quad_mesh(V, F, result)
+    assert report.irregular_vertices == 0 and hausdorff < 0.03
+    assert 0.5 * 800 < report.quads < 2.0 * 800
+
+
 def test_shared_mesh_quadrangulation(data_dir):
     # bumpy-cube (39,936 faces).
     V, F = io.read_mesh(data_dir / "bumpy-cube.obj")
@@ -177,10 +199,11 @@ def test_simplification_cancels_pairs(data_dir):
 
 def test_eigenvector_option_and_counts_conform():
     V, F = datasets.icosphere(3)
-    result = spectral_quadrangulate(V, F, eigenvector=9, target_faces=300)
+    result = spectral_quadrangulate(V, F, eigenvector=9, target_faces=300, coupled=False)
     assert result.report.eigenvector == 9 and result.report.candidates_tried == 1
+    assert not result.report.coupled and result.report.flipped_before == 0
     check_quad_mesh(V, F, result)
-    # every cell's quads form an n×m grid: (n+1)(m+1) nodes
+    # the per-cell maps: every cell's quads form an n×m grid, (n+1)(m+1) nodes
     for p in range(result.report.patches):
         cell = result.Q[result.quad_patch == p]
         nodes = len(np.unique(cell))

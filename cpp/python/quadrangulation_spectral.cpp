@@ -49,9 +49,10 @@ void bind_quadrangulation_spectral(py::module_& m) {
 
   m.def("spectral_quadrangulate", [](const py::object& V, const py::object& F, const py::object& target_faces,
                                      const py::object& target_patches, const py::object& eigenvector,
-                                     const py::object& callback) {
+                                     bool coupled, const py::object& callback) {
     const MeshArguments mesh(V, F);
     SpectralOptions options;
+    options.coupled = coupled;
     if (!target_faces.is_none()) options.target_faces = integer_argument<Eigen::Index>(target_faces, "target_faces", 1, Eigen::Index(1) << 24);
     if (!target_patches.is_none()) options.target_patches = integer_argument<Eigen::Index>(target_patches, "target_patches", 1, 100000);
     if (!eigenvector.is_none())
@@ -76,9 +77,13 @@ void bind_quadrangulation_spectral(py::module_& m) {
     out["candidates_tried"] = r.candidates_tried;
     out["cancelled_extrema"] = r.cancelled_extrema;
     out["simplification_rounds"] = r.simplification_rounds;
+    out["coupled"] = r.coupled;
+    out["flipped_before"] = r.flipped_before;
+    out["flipped_after"] = r.flipped_after;
+    out["repair_rounds"] = r.repair_rounds;
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("target_faces") = py::none(), py::arg("target_patches") = py::none(),
-     py::arg("eigenvector") = py::none(), py::arg("progress") = py::none(),
+     py::arg("eigenvector") = py::none(), py::arg("coupled") = false, py::arg("progress") = py::none(),
      "Spectral Morse–Smale quadrangulation (§5.2.1); see meshsmith.quadrangulation.spectral_quadrangulate.");
 }
 

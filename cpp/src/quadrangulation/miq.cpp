@@ -34,6 +34,7 @@
 #include <meshsmith/quadrangulation/miq.h>
 
 #include "field_geometry.h"
+#include "seamless_map.h"
 
 #include <meshsmith/core/errors.h>
 
@@ -42,6 +43,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -173,39 +175,6 @@ Eigen::Matrix2d quarter_turns(int k) {
   return R;
 }
 
-/// The weighted energy Σ_f w_f A_f ‖∇u − s u*‖² + ‖∇v − s v*‖² on the cut mesh, as the
-/// interleaved (u_i at 2i, v_i at 2i + 1) matrix K and right-hand side b (E = xᵀKx − 2bᵀx + c).
-void assemble_energy(const VertexMatrix& P, const FaceMatrix& Fc, const VertexMatrix& target_u,
-                     const VertexMatrix& target_v, const Eigen::VectorXd& weight, Eigen::Index n_variables,
-                     Sparse& K, Eigen::VectorXd& b) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(18 * Fc.rows());
-  b.setZero(n_variables);
-  for (Eigen::Index f = 0; f < Fc.rows(); ++f) {
-    const Eigen::Vector3d p[3] = {P.row(Fc(f, 0)), P.row(Fc(f, 1)), P.row(Fc(f, 2))};
-    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double double_area = cross.norm();
-    if (!(double_area > 0)) continue;
-    const Eigen::Vector3d n = cross / double_area;
-    Eigen::Vector3d gradient[3];
-    for (int k = 0; k < 3; ++k) gradient[k] = n.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / double_area;
-    const double wa = weight[f] * 0.5 * double_area;
-    for (int a = 0; a < 3; ++a) {
-      const int i = Fc(f, a);
-      b[2 * i] += wa * target_u.row(f).dot(gradient[a]);
-      b[2 * i + 1] += wa * target_v.row(f).dot(gradient[a]);
-      for (int c = 0; c < 3; ++c) {
-        const double value = wa * gradient[a].dot(gradient[c]);
-        const int j = Fc(f, c);
-        triplets.emplace_back(2 * i, 2 * j, value);
-        triplets.emplace_back(2 * i + 1, 2 * j + 1, value);
-      }
-    }
-  }
-  K.resize(n_variables, n_variables);
-  K.setFromTriplets(triplets.begin(), triplets.end());
-}
-
 /// H with the rows and columns of `held` replaced by the identity (pattern kept).
 Sparse with_held_identity(const Sparse& H, const std::vector<char>& held) {
   Sparse out = H;
@@ -215,19 +184,6 @@ Sparse with_held_identity(const Sparse& H, const std::vector<char>& held) {
     }
   }
   return out;
-}
-
-Eigen::Index count_flipped(const CornerUV& uv, std::vector<char>* flipped = nullptr) {
-  Eigen::Index count = 0;
-  if (flipped) flipped->assign(uv.rows(), 0);
-  for (Eigen::Index f = 0; f < uv.rows(); ++f) {
-    const double det = (uv(f, 2) - uv(f, 0)) * (uv(f, 5) - uv(f, 1)) - (uv(f, 3) - uv(f, 1)) * (uv(f, 4) - uv(f, 0));
-    if (!(det > 0)) {
-      ++count;
-      if (flipped) (*flipped)[f] = 1;
-    }
-  }
-  return count;
 }
 
 /// The grid unit (one quad edge) in normalized lengths: options.target_edge_length, or twice
@@ -417,7 +373,7 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
   Sparse K;
   Eigen::VectorXd b;
   auto reduced_system = [&](Sparse& H, Eigen::VectorXd& g) {
-    assemble_energy(P, Fc, target_u, target_v, weight, 2 * nc, K, b);
+    detail::assemble_energy(P, Fc, target_u, target_v, weight, 2 * nc, K, b);
     H = Sparse(Z.transpose() * K * Z);
     g = Z.transpose() * (b - K * c);
   };
@@ -600,12 +556,78 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
   solve_held(held, y);
   result.uv = corner_uv(y);
   std::vector<char> flipped;
-  result.flipped_before = result.flipped_after = count_flipped(result.uv, &flipped);
+  result.flipped_before = result.flipped_after = detail::count_flipped(result.uv, &flipped);
+  result.repair_rounds = detail::repair_by_stiffening(
+      F, mesh.V.rows(), options.repair_iterations, options.stiffening, weight, result.uv, result.flipped_after, flipped,
+      [&](const Eigen::VectorXd& stiffened) {
+        weight = stiffened;
+        reduced_system(H, g);
+        Eigen::VectorXd candidate = y;
+        solve_held(held, candidate);
+        return corner_uv(candidate);
+      },
+      [&](int round) { progress.report(0.8 + 0.2 * round / std::max(1, options.repair_iterations), "miq: repair"); });
+  return result;
+}
+
+}  // namespace
+
+namespace detail {
+
+void assemble_energy(const VertexMatrix& P, const FaceMatrix& Fc, const VertexMatrix& target_u,
+                     const VertexMatrix& target_v, const Eigen::VectorXd& weight, Eigen::Index n_variables,
+                     Eigen::SparseMatrix<double>& K, Eigen::VectorXd& b) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(18 * Fc.rows());
+  b.setZero(n_variables);
+  for (Eigen::Index f = 0; f < Fc.rows(); ++f) {
+    const Eigen::Vector3d p[3] = {P.row(Fc(f, 0)), P.row(Fc(f, 1)), P.row(Fc(f, 2))};
+    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double double_area = cross.norm();
+    if (!(double_area > 0)) continue;
+    const Eigen::Vector3d n = cross / double_area;
+    Eigen::Vector3d gradient[3];
+    for (int k = 0; k < 3; ++k) gradient[k] = n.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / double_area;
+    const double wa = weight[f] * 0.5 * double_area;
+    for (int a = 0; a < 3; ++a) {
+      const int i = Fc(f, a);
+      b[2 * i] += wa * target_u.row(f).dot(gradient[a]);
+      b[2 * i + 1] += wa * target_v.row(f).dot(gradient[a]);
+      for (int c = 0; c < 3; ++c) {
+        const double value = wa * gradient[a].dot(gradient[c]);
+        const int j = Fc(f, c);
+        triplets.emplace_back(2 * i, 2 * j, value);
+        triplets.emplace_back(2 * i + 1, 2 * j + 1, value);
+      }
+    }
+  }
+  K.resize(n_variables, n_variables);
+  K.setFromTriplets(triplets.begin(), triplets.end());
+}
+
+Eigen::Index count_flipped(const CornerUV& uv, std::vector<char>* flipped) {
+  Eigen::Index count = 0;
+  if (flipped) flipped->assign(uv.rows(), 0);
+  for (Eigen::Index f = 0; f < uv.rows(); ++f) {
+    const double det = (uv(f, 2) - uv(f, 0)) * (uv(f, 5) - uv(f, 1)) - (uv(f, 3) - uv(f, 1)) * (uv(f, 4) - uv(f, 0));
+    if (!(det > 0)) {
+      ++count;
+      if (flipped) (*flipped)[f] = 1;
+    }
+  }
+  return count;
+}
+
+int repair_by_stiffening(const FaceRef& F, Eigen::Index n_vertices, int iterations, double stiffening,
+                         Eigen::VectorXd weight, CornerUV& uv, Eigen::Index& flipped_count, std::vector<char> flipped,
+                         const std::function<CornerUV(const Eigen::VectorXd&)>& resolve,
+                         const std::function<void(int)>& on_round) {
+  const Eigen::Index m = F.rows();
   // The faces around each vertex (for the stiffened neighbourhoods).
-  std::vector<int> vertex_face_offsets(mesh.V.rows() + 1, 0), vertex_faces(3 * m);
+  std::vector<int> vertex_face_offsets(n_vertices + 1, 0), vertex_faces(3 * m);
   for (Eigen::Index f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k) ++vertex_face_offsets[F(f, k) + 1];
-  for (Eigen::Index v = 0; v < mesh.V.rows(); ++v) vertex_face_offsets[v + 1] += vertex_face_offsets[v];
+  for (Eigen::Index v = 0; v < n_vertices; ++v) vertex_face_offsets[v + 1] += vertex_face_offsets[v];
   {
     std::vector<int> fill(vertex_face_offsets.begin(), vertex_face_offsets.end() - 1);
     for (Eigen::Index f = 0; f < m; ++f)
@@ -617,11 +639,11 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
   // A round that leaves more flips is undone (the weights go back to the best map's) and the
   // factor drops to its square root: at ×5 without backtracking rocker-arm kept all 13 of its
   // flips (every round overshot), with it 13 → 7 (at 3,000 quads).
-  int stalled = 0;
-  double factor = options.stiffening;
+  int stalled = 0, rounds = 0;
+  double factor = stiffening;
   Eigen::VectorXd best_weight = weight;
-  for (int round = 0; round < options.repair_iterations && result.flipped_after > 0; ++round) {
-    progress.report(0.8 + 0.2 * round / std::max(1, options.repair_iterations), "miq: repair");
+  for (int round = 0; round < iterations && flipped_count > 0; ++round) {
+    on_round(round);
     std::vector<char> stiffen(m, 0);
     for (Eigen::Index f = 0; f < m; ++f) {
       if (!flipped[f]) continue;
@@ -632,18 +654,14 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
       // capped: beyond ~1e4 against the other faces the system loses its definiteness in floating point
       if (stiffen[f]) weight[f] = std::min(1e4, weight[f] * (flipped[f] ? factor : std::sqrt(factor)));
     }
-    reduced_system(H, g);
-    Eigen::VectorXd candidate = y;
-    solve_held(held, candidate);
-    const CornerUV uv = corner_uv(candidate);
+    const CornerUV candidate = resolve(weight);
     std::vector<char> now_flipped;
-    const Eigen::Index count = count_flipped(uv, &now_flipped);
-    ++result.repair_rounds;
-    if (count <= result.flipped_after) {
-      stalled = count < result.flipped_after ? 0 : stalled + 1;
-      y = candidate;
-      result.uv = uv;
-      result.flipped_after = count;
+    const Eigen::Index count = count_flipped(candidate, &now_flipped);
+    ++rounds;
+    if (count <= flipped_count) {
+      stalled = count < flipped_count ? 0 : stalled + 1;
+      uv = candidate;
+      flipped_count = count;
       flipped = std::move(now_flipped);
       best_weight = weight;
     } else {
@@ -653,10 +671,10 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
     }
     if (stalled >= 3) break;  // three rounds without fewer flips: more stiffening does not help (pmp-bunny)
   }
-  return result;
+  return rounds;
 }
 
-}  // namespace
+}  // namespace detail
 
 MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta, const MiqOptions& options,
               const Progress& progress) {
@@ -679,7 +697,7 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   double radius = 1.0 * unit;
   for (int round = 1; round <= kReleaseRounds && result.flipped_after > 0 && result.feature_edges > 0; ++round) {
     std::vector<char> near(mesh.V.rows(), 0), flipped;
-    count_flipped(result.uv, &flipped);
+    detail::count_flipped(result.uv, &flipped);
     std::vector<Eigen::Vector3d> centres;  // the corners of the flipped triangles
     for (Eigen::Index f = 0; f < F.rows(); ++f)
       if (flipped[f]) for (int k = 0; k < 3; ++k) centres.push_back(mesh.V.row(F(f, k)));

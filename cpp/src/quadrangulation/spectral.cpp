@@ -25,6 +25,9 @@
 #include <meshsmith/parametrization/mesh_checks.h>
 #include <meshsmith/topology/edge_incidence.h>
 
+#include "field_geometry.h"
+#include "seamless_map.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -729,14 +732,24 @@ int find_root(std::vector<int>& parent, int x) {
   return x;
 }
 
-/// Steps 3 and 4: harmonic maps of the cells and their conforming grids.
-SpectralQuadrangulation grids(const Surface& S, const MorseSmaleComplex& C, double h, double target_quads,
-                              const Progress& progress) {
+/// The grid counts of the lines and their arc lengths.
+struct LineCounts {
+  std::vector<std::vector<double>> arc;  ///< per line, the arc length at each of its vertices
+  std::vector<int> count;                ///< per line, its number of quad edges
+};
+
+/// Step 4's integer problem: sides are chained (opposite sides of a cell; the two cells of a line
+/// share it) by union–find and each chain gets one count, so that opposite sides of every cell
+/// and the two sides of every line agree; n = round(mean chain length / step), the step rescaled
+/// a few rounds so that Σ over the cells of n·m comes nearest target_quads.
+LineCounts line_counts(const Surface& S, const MorseSmaleComplex& C, double h, double target_quads) {
   const auto& lines = C.lines;
   const int n_lines = static_cast<int>(lines.size());
   const Eigen::Index patches = C.patch_corners.rows();
-  // Arc lengths along each line.
-  std::vector<std::vector<double>> arc(n_lines);
+  LineCounts out;
+  auto& arc = out.arc;
+  auto& count = out.count;
+  arc.resize(n_lines);
   for (int l = 0; l < n_lines; ++l) {
     arc[l].assign(1, 0.0);
     for (std::size_t k = 1; k < lines[l].size(); ++k)
@@ -749,7 +762,8 @@ SpectralQuadrangulation grids(const Surface& S, const MorseSmaleComplex& C, doub
     for (int k = 0; k < 2; ++k)
       parent[find_root(parent, C.patch_sides(p, k))] = find_root(parent, C.patch_sides(p, k + 2));
   std::vector<double> chain_length(n_lines, 0.0);
-  std::vector<int> chain_size(n_lines, 0), count(n_lines);
+  std::vector<int> chain_size(n_lines, 0);
+  count.resize(n_lines);
   for (int l = 0; l < n_lines; ++l) {
     chain_length[find_root(parent, l)] += arc[l].back();
     ++chain_size[find_root(parent, l)];
@@ -772,7 +786,17 @@ SpectralQuadrangulation grids(const Surface& S, const MorseSmaleComplex& C, doub
     step *= std::sqrt(total / target_quads);
   }
   assign(best_step);
+  return out;
+}
 
+/// Steps 3 and 4 cell by cell: harmonic maps of the cells and their conforming grids.
+SpectralQuadrangulation cell_grids(const Surface& S, const MorseSmaleComplex& C, const LineCounts& counts,
+                                   const Progress& progress) {
+  const auto& lines = C.lines;
+  const int n_lines = static_cast<int>(lines.size());
+  const Eigen::Index patches = C.patch_corners.rows();
+  const auto& arc = counts.arc;
+  const auto& count = counts.count;
   SpectralQuadrangulation out;
   std::vector<Eigen::RowVector3d> nodes;
   std::vector<int> node_of_vertex(S.V.rows(), -1);
@@ -902,6 +926,206 @@ SpectralQuadrangulation grids(const Surface& S, const MorseSmaleComplex& C, doub
   for (std::size_t i = 0; i < quads.size(); ++i) {
     for (int k = 0; k < 4; ++k) out.Q(i, k) = quads[i][k];
     out.quad_patch[i] = quad_patch[i];
+  }
+  return out;
+}
+
+/// What the coupled map made (besides the quads).
+struct CoupledStats {
+  Eigen::Index flipped_before = 0;  ///< triangles with det ≤ 0 in (u, v) as first solved
+  Eigen::Index flipped_after = 0;   ///< after the stiffening repair
+  int repair_rounds = 0;
+  bool complete = false;            ///< the extraction covered the surface with the input's χ
+};
+
+/// Steps 3 and 4 coupled (Dong et al. 2006, §5: the global relaxation): one seamless
+/// parametrization of all cells. Cell p's chart is the rectangle [0, n] × [0, m] of its line
+/// counts (one unit per quad edge), its corners max, saddle, min, saddle held at (0, 0), (n, 0),
+/// (n, m), (0, m). The mesh is cut along the lines: a vertex inside a cell has one (u, v), a
+/// vertex inside a line one per side, related by the line's transition function (the rotation by
+/// a multiple of π/2 and the integer translation that take the side in one chart onto the same
+/// side in the other, exact since both have the line's count), so lines are free to move and
+/// iso-lines cross them smoothly. The Dirichlet energy Σ_f A_f (‖∇u‖² + ‖∇v‖²) over the cut mesh,
+/// with the unknowns of the lower-numbered cell of each line kept, is one sparse SPD system
+/// (CHOLMOD); flipped triangles are repaired by stiffening as in MIQ; the integer grid is then
+/// extracted by extract_quads (QEx). Cell corners sit on integer points, so the extremum corners
+/// are the mesh's only possible irregular vertices.
+SpectralQuadrangulation coupled_grid(const Surface& S, const MorseSmaleComplex& C, const LineCounts& counts,
+                                     const Progress& progress, CoupledStats& stats) {
+  const auto& lines = C.lines;
+  const auto& count = counts.count;
+  const int n_lines = static_cast<int>(lines.size());
+  const Eigen::Index patches = C.patch_corners.rows(), m = S.F.rows(), n = S.V.rows();
+  using Matrix2 = Eigen::Matrix2d;
+  using Vector2 = Eigen::Vector2d;
+  // The charts' corners.
+  std::vector<std::array<Vector2, 4>> corner_uv(patches);
+  for (Eigen::Index p = 0; p < patches; ++p) {
+    const double a = count[C.patch_sides(p, 0)], b = count[C.patch_sides(p, 1)];
+    corner_uv[p] = {Vector2(0, 0), Vector2(a, 0), Vector2(a, b), Vector2(0, b)};
+  }
+  // Each line's two sides (cell, side index) and the transition from the first cell's chart to
+  // the second's: x ↦ R x + t.
+  std::vector<std::vector<std::pair<int, int>>> sides(n_lines);
+  for (Eigen::Index p = 0; p < patches; ++p)
+    for (int k = 0; k < 4; ++k) sides[C.patch_sides(p, k)].emplace_back(static_cast<int>(p), k);
+  std::vector<Matrix2> rotation(n_lines);
+  std::vector<Vector2> translation(n_lines);
+  for (int l = 0; l < n_lines; ++l) {
+    if (sides[l].size() != 2 || sides[l][0].first == sides[l][1].first)
+      throw SolverError("spectral_quadrangulate: line " + std::to_string(l) + " does not separate two cells");
+    std::sort(sides[l].begin(), sides[l].end());
+    const auto [p, kp] = sides[l][0];
+    const auto [q, kq] = sides[l][1];
+    // Side kp of p runs from its corner kp to kp + 1; the same line in q runs the other way.
+    const Vector2 from = corner_uv[p][(kp + 1) % 4] - corner_uv[p][kp];
+    const Vector2 to = corner_uv[q][kq] - corner_uv[q][(kq + 1) % 4];
+    Matrix2 R = Matrix2::Identity();
+    const Matrix2 quarter = (Matrix2() << 0, -1, 1, 0).finished();
+    int turns = 0;
+    while (turns < 4 && (R * from - to).cwiseAbs().maxCoeff() > 0.5) R = quarter * R, ++turns;
+    if (turns == 4) throw SolverError("spectral_quadrangulate: the two sides of line " + std::to_string(l) + " have different counts");
+    rotation[l] = R;
+    translation[l] = corner_uv[q][(kq + 1) % 4] - R * corner_uv[p][kp];
+  }
+  // Vertex roles: a corner (held), inside a line (its first cell's chart holds the unknowns), or
+  // inside a cell.
+  std::vector<int> line_of(n, -1);
+  for (int l = 0; l < n_lines; ++l)
+    for (std::size_t k = 1; k + 1 < lines[l].size(); ++k) line_of[lines[l][k]] = l;
+  const auto is_corner = [&](int v) { return C.vertex_type[v] != static_cast<int>(CriticalType::regular); };
+  std::vector<int> unknown(n, -1);
+  int n_free = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (!is_corner(static_cast<int>(v))) unknown[v] = n_free++;
+  // Copies: one per (cell, vertex) of the cut mesh; x_copy = A y_unknown + c.
+  std::unordered_map<std::uint64_t, int> copy_of;
+  FaceMatrix Fc(m, 3);
+  std::vector<int> copy_vertex, copy_patch;
+  for (Eigen::Index f = 0; f < m; ++f) {
+    const int p = C.face_patch[f];
+    for (int k = 0; k < 3; ++k) {
+      const int v = S.F(f, k);
+      const auto [it, inserted] = copy_of.emplace((static_cast<std::uint64_t>(p) << 32) | static_cast<std::uint32_t>(v),
+                                                  static_cast<int>(copy_vertex.size()));
+      if (inserted) copy_vertex.push_back(v), copy_patch.push_back(p);
+      Fc(f, k) = it->second;
+    }
+  }
+  const Eigen::Index nc = static_cast<Eigen::Index>(copy_vertex.size());
+  std::vector<Eigen::Triplet<double>> z_triplets;
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(2 * nc);
+  VertexMatrix P(nc, 3);
+  for (Eigen::Index i = 0; i < nc; ++i) {
+    const int v = copy_vertex[i], p = copy_patch[i];
+    P.row(i) = S.V.row(v);
+    if (is_corner(v)) {
+      int k = 0;
+      while (k < 4 && C.patch_corners(p, k) != v) ++k;
+      if (k == 4) throw SolverError("spectral_quadrangulate: critical vertex " + std::to_string(v) + " is no corner of its cell");
+      c.segment<2>(2 * i) = corner_uv[p][k];
+      continue;
+    }
+    const int l = line_of[v];
+    Matrix2 A = Matrix2::Identity();
+    if (l >= 0 && p != sides[l][0].first) {
+      A = rotation[l];
+      c.segment<2>(2 * i) = translation[l];
+    }
+    for (int r = 0; r < 2; ++r)
+      for (int s = 0; s < 2; ++s)
+        if (A(r, s) != 0) z_triplets.emplace_back(2 * i + r, 2 * unknown[v] + s, A(r, s));
+  }
+  Eigen::SparseMatrix<double> Z(2 * nc, 2 * n_free), K;
+  Z.setFromTriplets(z_triplets.begin(), z_triplets.end());
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(m);
+  detail::Cholesky solver;
+  detail::configure_cholmod(solver);
+  bool analyzed = false;
+  // The Dirichlet energy with the cotangent weights clamped at 0 (Σ w_ij ‖x_i − x_j‖²): the
+  // refined mesh's slivers (edges split by the gap routes and chords, stars at the extrema) have
+  // negative cotangents, under which the plain energy folded hundreds of triangles on spot.
+  const auto assemble = [&](const Eigen::VectorXd& w) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(24 * m);
+    for (Eigen::Index f = 0; f < m; ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const int i = Fc(f, (k + 1) % 3), j = Fc(f, (k + 2) % 3);
+        const Eigen::Vector3d a = P.row(i) - P.row(Fc(f, k)), bb = P.row(j) - P.row(Fc(f, k));
+        const double sine = a.cross(bb).norm();
+        if (!(sine > 0)) continue;
+        const double weight_ij = w[f] * std::max(0.0, a.dot(bb) / sine);
+        for (int r = 0; r < 2; ++r) {
+          triplets.emplace_back(2 * i + r, 2 * i + r, weight_ij);
+          triplets.emplace_back(2 * j + r, 2 * j + r, weight_ij);
+          triplets.emplace_back(2 * i + r, 2 * j + r, -weight_ij);
+          triplets.emplace_back(2 * j + r, 2 * i + r, -weight_ij);
+        }
+      }
+    }
+    K.resize(2 * nc, 2 * nc);
+    K.setFromTriplets(triplets.begin(), triplets.end());
+  };
+  const auto solve = [&](const Eigen::VectorXd& w) {
+    assemble(w);
+    const Eigen::SparseMatrix<double> H = Z.transpose() * K * Z;
+    const Eigen::VectorXd g = -(Z.transpose() * (K * c));
+    if (!analyzed) solver.analyzePattern(H), analyzed = true;
+    solver.factorize(H);
+    if (solver.info() != Eigen::Success) throw SolverError("spectral_quadrangulate: CHOLMOD failed to factorize the coupled map");
+    const Eigen::VectorXd x = Z * Eigen::VectorXd(solver.solve(g)) + c;
+    if (!x.allFinite()) throw SolverError("spectral_quadrangulate: the coupled map is not finite");
+    CornerUV uv(m, 6);
+    for (Eigen::Index f = 0; f < m; ++f)
+      for (int k = 0; k < 3; ++k) uv(f, 2 * k) = x[2 * Fc(f, k)], uv(f, 2 * k + 1) = x[2 * Fc(f, k) + 1];
+    return uv;
+  };
+  progress.report(0.0, "coupled map of the cells");
+  CornerUV uv = solve(weight);
+  std::vector<char> flipped;
+  stats.flipped_before = stats.flipped_after = detail::count_flipped(uv, &flipped);
+  stats.repair_rounds = detail::repair_by_stiffening(
+      S.F, n, 10, 5.0, weight, uv, stats.flipped_after, flipped, solve,
+      [&](int round) { progress.report(0.2 + 0.03 * round, "coupled map: repair"); });
+  progress.report(0.5, "quad extraction");
+  const Eigen::Map<const CornerUVMatrix> corners(uv.data(), 3 * m, 2);
+  QuadExtraction grid = extract_quads(S.V, S.F, corners, progress.subrange(0.5, 1.0));
+  stats.complete = grid.report.complete();
+  SpectralQuadrangulation out;
+  out.V = std::move(grid.V);
+  out.Q = std::move(grid.Q);
+  // Each cell corner's node: the node found in a face at that corner, at its (u, v) there.
+  std::vector<int> corner_node(n, -1);
+  for (Eigen::Index i = 0; i < grid.node_face.size(); ++i) {
+    const int f = grid.node_face[i];
+    for (int k = 0; k < 3; ++k) {
+      const int v = S.F(f, k);
+      if (is_corner(v) && uv(f, 2 * k) == grid.node_uv(i, 0) && uv(f, 2 * k + 1) == grid.node_uv(i, 1)) corner_node[v] = static_cast<int>(i);
+    }
+  }
+  out.patch_corners.resize(patches, 4);
+  for (Eigen::Index p = 0; p < patches; ++p) {
+    for (int k = 0; k < 4; ++k) {
+      int& node = corner_node[C.patch_corners(p, k)];
+      if (node < 0 && out.V.rows() > 0)  // not found by its (u, v) (a mirrored read): the nearest node
+        (out.V.rowwise() - S.V.row(C.patch_corners(p, k))).rowwise().squaredNorm().minCoeff(&node);
+      out.patch_corners(p, k) = node;
+    }
+  }
+  // A quad's cell: the one holding most of its corners' faces (ties: the lowest).
+  out.quad_patch.resize(out.Q.rows());
+  for (Eigen::Index q = 0; q < out.Q.rows(); ++q) {
+    std::array<int, 4> cell{};
+    for (int k = 0; k < 4; ++k) cell[k] = C.face_patch[grid.node_face[out.Q(q, k)]];
+    std::sort(cell.begin(), cell.end());
+    int best = cell[0], best_run = 0;
+    for (int k = 0; k < 4;) {
+      int j = k;
+      while (j < 4 && cell[j] == cell[k]) ++j;
+      if (j - k > best_run) best_run = j - k, best = cell[k];
+      k = j;
+    }
+    out.quad_patch[q] = best;
   }
   return out;
 }
@@ -1148,12 +1372,23 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
       stuck = any_stuck;
       if (C.complete()) {
         SpectralQuadrangulation out;
-        try {
-          out = grids(T, C, h, quads, progress.subrange(0.65, 1.0));
-        } catch (const SolverError& error) {  // a folded map: the next candidate
-          last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
-          break;
+        const LineCounts counts = line_counts(T, C, h, quads);
+        CoupledStats coupled;
+        if (options.coupled) out = coupled_grid(T, C, counts, progress.subrange(0.65, 0.9), coupled);
+        // Where the coupled map keeps flips its extraction cannot untangle (an incomplete grid),
+        // this candidate's cells are mapped one by one instead.
+        if (!coupled.complete) {
+          try {
+            out = cell_grids(T, C, counts, progress.subrange(0.65, 1.0));
+          } catch (const SolverError& error) {  // a folded map: the next candidate
+            last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
+            break;
+          }
         }
+        out.coupled = coupled.complete;
+        out.flipped_before = coupled.flipped_before;
+        out.flipped_after = coupled.flipped_after;
+        out.repair_rounds = coupled.repair_rounds;
         // Grid nodes that coincide (a degenerate map; 1e-12 of the unit-diagonal frame) make this
         // candidate fail.
         bool degenerate = false;

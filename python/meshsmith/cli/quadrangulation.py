@@ -12,7 +12,7 @@ from .common import ProgressBar, UsageError, add_command, check_output, integer,
 
 #: --method values.
 QUADRANGULATION_METHODS = {"miq": "cross field, mixed-integer parametrization (MIQ), quad extraction",
-                           "spectral": "Morse-Smale complex of a Laplacian eigenfunction, harmonic maps of its cells (§5.2.1)",
+                           "spectral": "Morse-Smale complex of a Laplacian eigenfunction, its cells coupled in one seamless map (§5.2.1)",
                            "dual-loops": "loops along a cross field, their arrangement's dual as a coarse quad layout (§5.3)"}
 
 #: Singularities closer than this many loop spacings are merged before dual loops are traced
@@ -135,6 +135,7 @@ def _spectral(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
             ("Morse-Smale cells", f"{report.patches} (eigenvector {report.eigenvector}, "
                                   f"{report.refinements} refinement(s))"),
             ("maxima / saddles / minima", f"{report.maxima} / {report.saddles} / {report.minima}"),
+            ("map", "cells coupled by transition functions" if report.coupled else "each cell on its own"),
             ("irregular vertices", str(report.irregular_vertices)),
             ("|angle - 90| mean / max", f"{report.mean_angle_deviation:.2f} / {report.max_angle_deviation:.2f} degrees"),
             ("min scaled Jacobian", f"{report.min_scaled_jacobian:.3f} ({report.inverted_quads} inverted)"),

@@ -73,6 +73,10 @@ struct SpectralOptions {
   Eigen::Index target_faces = 0;    ///< about this many quads (0: quads of twice the mean edge length)
   Eigen::Index target_patches = 0;  ///< about this many cells (0: one per ~25 quads, in [8, 240])
   Eigen::Index eigenvector = 0;     ///< the eigenvector's index (≥ 1; 0: chosen from target_patches)
+  /// true: one seamless parametrization of all cells coupled by transition functions, extracted
+  /// by extract_quads (a candidate whose extraction is incomplete falls back to the cells' maps);
+  /// false: each cell mapped on its own and sampled by its n×m grid.
+  bool coupled = false;
 };
 
 struct SpectralQuadrangulation {
@@ -93,6 +97,11 @@ struct SpectralQuadrangulation {
   /// simplification before the complex was traced.
   Eigen::Index cancelled_extrema = 0;
   int simplification_rounds = 0;  ///< its sweep rounds (−1: it did not converge, f was kept)
+  bool coupled = true;            ///< the coupled map made the quads (asked for, and its extraction complete;
+                                  ///< otherwise the cells were mapped one by one)
+  Eigen::Index flipped_before = 0;  ///< coupled map: triangles with det ≤ 0 in (u, v) as first solved
+  Eigen::Index flipped_after = 0;   ///< coupled map: the same after the stiffening repair
+  int repair_rounds = 0;            ///< coupled map: stiffening rounds run
 };
 
 /// Spectral quadrangulation of a closed surface (§5.2.1). Computes the lowest eigenpairs of the
