@@ -1130,13 +1130,6 @@ SpectralQuadrangulation coupled_grid(const Surface& S, const MorseSmaleComplex& 
   return out;
 }
 
-/// Saddles (with multiplicity) of f: the cell count of its complex is twice this.
-Eigen::Index saddle_count(const Rings& rings, const Eigen::VectorXd& f) {
-  Eigen::VectorXi type, multiplicity;
-  classify(rings, f, type, multiplicity);
-  return multiplicity.sum();
-}
-
 /// 0-dimensional persistence of the extrema of f (ties broken by index, as `above`): sweeping the
 /// vertices upwards (maxima: downwards), a vertex with no swept neighbour starts a component at
 /// its minimum; where two components meet, the one of the higher minimum dies there, its
