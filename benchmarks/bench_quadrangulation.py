@@ -139,8 +139,7 @@ def main():
               f"{report.merge_distance / report.target_edge_length:.1f} quad edges, {report.miq_attempts} MIQ solves), "
               f"extraction complete: {report.extraction.complete}, left out {report.extraction.squares_inconsistent} "
               f"squares, min scaled Jacobian {report.min_scaled_jacobian_extracted:.3f} → {report.min_scaled_jacobian:.3f} "
-              f"({report.relaxed_vertices} vertices relaxed), coupled map flips {report.flipped_before} → "
-              f"{report.flipped_after} ({report.repair_rounds} stiffening rounds)")
+              f"({report.relaxed_vertices} vertices relaxed)")
         T = np.concatenate([result.Q[:, [0, 1, 2]], result.Q[:, [0, 2, 3]]])
         bench.check("meshsmith: non-quad faces + non-manifold + unoriented",
                     figures["meshsmith"]["non_quads"] + (not topology.is_manifold(T)) + (not topology.is_oriented(T)), 0)
