@@ -13,7 +13,7 @@ from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from .cross_field import CrossField, cross_field, merge_singularities, singularities
 from .extraction import QuadExtractionReport, extract_quads
 from .miq import grid_length, miq
-from .quality import quad_quality
+from .quality import QuadQuality, quad_quality
 
 __all__ = ["QuadrangulationReport", "Quadrangulation", "quadrangulate"]
 
@@ -323,25 +323,28 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
     valence = np.bincount(Q.ravel(), minlength=n).astype(np.float64)
     free = ~fixed & (valence > 0)
 
+    # the neighbour mean and the corner-to-vertex sum as sparse matrices, built once (np.add.at per
+    # round was a third of the smoothing's time)
+    import scipy.sparse
+    rows = np.concatenate([unique[:, 0], unique[:, 1]])
+    columns = np.concatenate([unique[:, 1], unique[:, 0]])
+    neighbour_mean = scipy.sparse.csr_matrix((1.0 / np.maximum(degree, 1)[rows], (rows, columns)), shape=(n, n))
+    corner_sum = scipy.sparse.csr_matrix((np.ones(Q.size), (Q.ravel(), np.repeat(np.arange(len(Q)), 4))),
+                                         shape=(n, len(Q)))
+
     def target(P: FloatArray) -> FloatArray:
-        laplace = np.zeros_like(P)
-        np.add.at(laplace, unique[:, 0], P[unique[:, 1]])
-        np.add.at(laplace, unique[:, 1], P[unique[:, 0]])
-        return laplace / np.maximum(degree, 1)[:, None]
+        return np.asarray(neighbour_mean @ P)
 
     def vertex_normals(P: FloatArray) -> FloatArray:
         C = P[Q]
-        area = np.cross(C, np.roll(C, -1, axis=1)).sum(axis=1)
-        out = np.zeros_like(P)
-        for c in range(4):
-            np.add.at(out, Q[:, c], area)
+        out = np.asarray(corner_sum @ np.cross(C, np.roll(C, -1, axis=1)).sum(axis=1))
         return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
 
-    def mean_deviation(P: FloatArray) -> tuple[float, FloatArray]:
-        quality = quad_quality(P, Q)
-        return float(np.abs(quality.angles - 90.0).mean()), quality.scaled_jacobian
+    def mean_deviation(quality: QuadQuality) -> float:
+        return float(np.abs(quality.angles - 90.0).mean())
 
-    best_deviation, jacobian = mean_deviation(Vq)
+    first = quad_quality(Vq, Q)
+    best_deviation, jacobian = mean_deviation(first), first.scaled_jacobian
     best, P = Vq, Vq
     moved = np.zeros(n, dtype=bool)
     best_moved = 0
@@ -352,19 +355,22 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
         candidate = P.copy()
         candidate[free] = surface.closest_points(P[free] + move[free]).point
         floor = float(jacobian.min())
-        for _ in range(10):
+        quality: QuadQuality | None = None
+        for attempt in range(11):           # the quality of the last candidate is the round's
             try:
-                now = quad_quality(candidate, Q).scaled_jacobian
-            except InputError:  # a zero-length edge: put everything back
-                candidate, now = P.copy(), jacobian
+                quality = quad_quality(candidate, Q)
+            except InputError:              # a zero-length edge: this round gives nothing
+                quality = None
                 break
-            bad = now < floor
-            if not bad.any():
+            bad = quality.scaled_jacobian < floor
+            if not bad.any() or attempt == 10:
                 break
             corners = Q[bad].ravel()
             candidate[corners] = P[corners]
-        deviation, now = mean_deviation(candidate)
-        if now.min() < float(jacobian.min()) - 1e-12 or deviation >= best_deviation:
+        if quality is None:
+            break
+        deviation, now = mean_deviation(quality), quality.scaled_jacobian
+        if now.min() < floor - 1e-12 or deviation >= best_deviation:
             break
         moved |= np.any(candidate != P, axis=1)
         P, jacobian = candidate, now
