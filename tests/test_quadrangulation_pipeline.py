@@ -193,6 +193,17 @@ def test_command_line_writes_a_quad_mesh(tmp_path, capsys):
     assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "10", "--edge-length", "0.2"]) == 2
 
 
+def test_the_result_carries_the_merged_field_its_map_follows(data_dir):
+    from meshsmith.quadrangulation import singularities
+    V, F = io.read_mesh(data_dir / "spot.obj")
+    result = quadrangulate(V, F, target_faces=1000)
+    cones = singularities(V, F, result.field)
+    assert np.array_equal(cones.vertices, result.report.singular_vertices)
+    assert np.array_equal(cones.indices, result.report.singular_indices)
+    assert cones.indices.sum() == 4 * topology.euler_characteristic(F)
+    assert len(singularities(V, F, cross_field(V, F)).vertices) > len(cones.vertices)   # pairs were merged
+
+
 def test_demo_quadrangulation_stage(tmp_path):
     import json
 

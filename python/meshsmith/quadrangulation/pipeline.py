@@ -86,7 +86,9 @@ class Quadrangulation(Unpackable):
 
     V: (k, 3) float64 quad-mesh vertices on the input surface; Q: (q, 4) int64 quads,
     counter-clockwise like the input; UV: (m, 3, 2) float64 the seamless map the quads were
-    extracted from (per input face corner); report: a :class:`QuadrangulationReport`.
+    extracted from (per input face corner); report: a :class:`QuadrangulationReport`; field: the
+    :class:`CrossField` that map follows (the input's field after merging singularity pairs: its
+    singularities are ``report.singular_vertices``).
     """
 
     unpacks = ("V", "Q", "report")
@@ -94,6 +96,7 @@ class Quadrangulation(Unpackable):
     Q: IndexArray
     UV: FloatArray
     report: QuadrangulationReport
+    field: CrossField
 
 
 def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCallback:
@@ -206,7 +209,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         min_scaled_jacobian=min_jacobian, merge_distance=merge_distance, feature_edges=param.feature_edges,
         miq_attempts=attempts,
         relaxed_vertices=relaxed, min_scaled_jacobian_extracted=extracted_jacobian)
-    return Quadrangulation(Vq, quads.Q, param.UV, report)
+    return Quadrangulation(Vq, quads.Q, param.UV, report, field)
 
 
 #: Quads with a smaller scaled Jacobian are relaxed (with their neighbours).
