@@ -29,9 +29,9 @@ class CrossField(Unpackable):
     boundary); connection: (e,) float64 parallel-transport angle κ from the first face's frame
     to the second's; period_jumps: (e,) int64 p with θ_g − θ_f − κ − p·π/2 in [−π/4, π/4);
     constrained_faces: faces held by a hard constraint; energy: the angle energy E of theta
-    (:func:`cross_field`; NaN for a field from :func:`merge_singularities`, which does not
-    evaluate it); initial_energy: E of the power-4 field before rounding (equal to energy for
-    ``rounding="none"``); changed_jumps: interior edges whose period jump the rounding changed
+    (:func:`cross_field`; None for a field from :func:`merge_singularities`, which does not
+    know the alignment terms to evaluate it with); initial_energy: E of the power-4 field before
+    rounding (equal to energy for ``rounding="none"``; None as energy); changed_jumps: interior edges whose period jump the rounding changed
     (compared in one gauge: the power-4 angles combed along the rounding's spanning forest).
     """
 
@@ -43,8 +43,8 @@ class CrossField(Unpackable):
     connection: FloatArray
     period_jumps: IndexArray
     constrained_faces: int
-    energy: float = float("nan")
-    initial_energy: float = float("nan")
+    energy: float | None = None
+    initial_energy: float | None = None
     changed_jumps: int = 0
 
 
