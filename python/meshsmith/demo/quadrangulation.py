@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from .. import InputError, render
-from ..quadrangulation import dual_loop_layout, field_picture, quadrangulate, regions_picture
+from ..quadrangulation import cross_field, dual_loop_layout, field_picture, quadrangulate, regions_picture
 from .context import DemoContext, Section
 
 
@@ -23,7 +23,7 @@ def stage_quadrangulation(context: DemoContext) -> Section:
                        f"manifold; this input is not one: {error}", {"skipped": str(error)}, [])
     report = result.report
     name = "quadrangulation.png"
-    field = result.field                  # the field MIQ followed: its cones are the report's
+    field = cross_field(context.V, context.F)
     pictures = [field_picture(context.V, context.F, field, size=(480, 420), title="cross field and singularities"),
                 render.render(context.V, context.F, size=(480, 420), uv=result.UV, checker_size=1.0, wireframe=False,
                               title="the seamless map's unit grid"),
@@ -42,7 +42,7 @@ def stage_quadrangulation(context: DemoContext) -> Section:
     }
     images = [(name, "the cross field (crosses, cones coloured by index), the map's unit squares as a "
                      "checkerboard on the input, and the extracted quads")]
-    # §5.3: dual loops of the same field, singularities within 1.5 loop spacings merged (again); they are
+    # §5.3: dual loops of the same field, singularities within 1.5 loop spacings merged; they are
     # traced on closed meshes only (an open input, e.g. a scan with holes, is said so in the figures).
     try:
         layout = dual_loop_layout(context.V, context.F, field, merge=1.5)
