@@ -113,14 +113,24 @@ def test_period_jumps_match_their_definition_and_directions_round_trip():
     assert np.array_equal(singularities(V, F, field.directions).vertices, singularities(V, F, field).vertices)
 
 
-@pytest.mark.parametrize("name, genus", [("spot.obj", 0), ("rocker-arm.obj", 1), ("fertility.off", 4),
-                                         ("bumpy-cube.obj", 0), ("kitten.off", 1)])
-def test_shared_meshes_satisfy_poincare_hopf(data_dir, name, genus):
+@pytest.mark.parametrize("name, genus, rounding", [
+    ("spot.obj", 0, "none"), ("rocker-arm.obj", 1, "none"), ("fertility.off", 4, "none"),
+    ("bumpy-cube.obj", 0, "none"), ("kitten.off", 1, "none"),
+    ("spot.obj", 0, "greedy"), ("rocker-arm.obj", 1, "greedy"), ("fertility.off", 4, "greedy"),
+    ("kitten.off", 1, "greedy"), ("fandisk.obj", 0, "greedy")])
+def test_shared_meshes_satisfy_poincare_hopf(data_dir, name, genus, rounding):
     V, F = io.read_mesh(data_dir / name)
-    field = cross_field(V, F, align="curvature")
+    field = cross_field(V, F, align="curvature", rounding=rounding)
     vertices, indices = singularities(V, F, field)
     assert indices.sum() == 4 * (2 - 2 * genus)
-    assert len(vertices) == len(np.unique(vertices))
+    assert np.all(indices != 0) and len(vertices) == len(np.unique(vertices))
+    # the reported jumps are the angles' (by their definition)
+    interior = field.edge_faces[:, 1] >= 0
+    f, g = field.edge_faces[interior].T
+    x = field.theta[g] - field.theta[f] - field.connection[interior]
+    p = np.round((x - residual(x)) / QUARTER).astype(int) % 4
+    assert np.array_equal(np.where(p == 3, -1, p), field.period_jumps[interior])
+    assert np.all((field.theta >= 0) & (field.theta < QUARTER))
 
 
 def test_non_manifold_input_names_meshsmith_clean(data_dir):
@@ -218,23 +228,6 @@ def test_rounding_does_not_raise_the_angle_energy(data_dir, name, align, roundin
     assert rounded.energy < 0.99 * power4.energy
     vertices, indices = singularities(V, F, rounded)
     assert indices.sum() == 4 * euler_characteristic(F)
-
-
-@pytest.mark.parametrize("name, genus", [("spot.obj", 0), ("rocker-arm.obj", 1), ("fertility.off", 4),
-                                         ("kitten.off", 1), ("fandisk.obj", 0)])
-def test_greedy_rounding_satisfies_poincare_hopf(data_dir, name, genus):
-    V, F = io.read_mesh(data_dir / name)
-    field = cross_field(V, F, rounding="greedy")
-    vertices, indices = singularities(V, F, field)
-    assert indices.sum() == 4 * (2 - 2 * genus)
-    assert np.all(indices != 0) and len(vertices) == len(np.unique(vertices))
-    # the reported jumps are the angles' (by their definition)
-    interior = field.edge_faces[:, 1] >= 0
-    f, g = field.edge_faces[interior].T
-    x = field.theta[g] - field.theta[f] - field.connection[interior]
-    p = np.round((x - residual(x)) / QUARTER).astype(int) % 4
-    assert np.array_equal(np.where(p == 3, -1, p), field.period_jumps[interior])
-    assert np.all((field.theta >= 0) & (field.theta < QUARTER))
 
 
 def test_greedy_rounding_leaves_a_torus_without_singularities():

@@ -445,15 +445,21 @@ def test_merged_kitten_closes_its_second_family_only_across_its_first(data_dir):
     assert report.non_disk_regions == 0 and report.parallel_crossings > 0 and not report.complete
 
 
+def refined_crossing_layout(path, max_failed_seeds):
+    """(V, F, layout) of a cleaned shared mesh: its smooth field merged at 1.5 loop spacings, the mesh
+    split 1-to-4 and loops of one family allowed to cross (the options that complete pmp-bunny)."""
+    V, F = repair.clean(*io.read_mesh(path))[:2]
+    return V, F, dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
+                                  parallel_crossing_penalty=4.0, max_failed_seeds=max_failed_seeds)
+
+
 def test_refined_kitten_with_parallel_crossings_falls_short_only_at_neighbouring_dipoles(data_dir):
     # Issue 15 part 7, measured state (not complete): kitten's smooth field merged to 8 singularities
     # (4 of each sign), the mesh split 1-to-4 (loops also through the input's triangles) and loops of
     # one family allowed to cross: every region is a disk and the dual a closed quad layout (each
     # edge in two quads, once each way) with χ = 0 and no repeated corner. What is left are ±1 dipoles on neighbouring input vertices
     # (merge_singularities does not cancel them), each sharing a region, and 2 valence-2 vertices.
-    V, F = repair.clean(*io.read_mesh(data_dir / "kitten.off"))[:2]
-    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
-                              parallel_crossing_penalty=4.0, max_failed_seeds=150)
+    V, F, layout = refined_crossing_layout(data_dir / "kitten.off", max_failed_seeds=150)
     check_layout(layout.V_traced, layout.F_traced, layout)
     report = layout.report
     assert len(layout.singular_vertices) == 8 and layout.singular_indices.sum() == 0   # 4χ = 0
@@ -480,9 +486,7 @@ def test_refined_pmp_bunny_with_parallel_crossings_is_complete(data_dir):
     # neighbouring vertices (16321/16322) in one region, also with refine=1 alone; with the mesh split
     # 1-to-4 and loops of one family allowed to cross, a loop separates the pair and the layout is
     # complete: every region a disk with at most one singularity, the dual closed, manifold, χ = 2.
-    V, F = repair.clean(*io.read_mesh(data_dir / "pmp-bunny.off"))[:2]
-    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
-                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    V, F, layout = refined_crossing_layout(data_dir / "pmp-bunny.off", max_failed_seeds=300)
     check_complete(layout.V_traced, layout.F_traced, layout)
     report = layout.report
     assert len(layout.singular_vertices) == 10 and layout.singular_indices.sum() == 8     # 4χ
@@ -495,9 +499,7 @@ def test_refined_fertility_with_parallel_crossings_has_valid_regions_but_valence
     # Issue 15 part 7, measured state (not complete): fertility (genus 4), its 24 −1 cones after the
     # merge; split 1-to-4 with loops of one family allowed to cross, every region is a disk with at
     # most one cone and the layout's χ is the input's −6, but 2 layout vertices have valence 2.
-    V, F = repair.clean(*io.read_mesh(data_dir / "fertility.off"))[:2]
-    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=1,
-                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    V, F, layout = refined_crossing_layout(data_dir / "fertility.off", max_failed_seeds=300)
     check_layout(layout.V_traced, layout.F_traced, layout)
     report = layout.report
     assert len(layout.singular_vertices) == 24 and (layout.singular_indices == -1).all()   # 4χ = −24
