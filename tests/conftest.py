@@ -4,6 +4,7 @@ Under scripts/test_wheel.sh, $MESHSMITH_WHEEL_TEST names the wheel under test, a
 refuses to start unless meshsmith is imported from the wheel's install (meshsmith/ beside
 meshsmith.libs/) in the running virtualenv."""
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -14,6 +15,12 @@ WHEEL_UNDER_TEST = os.environ.get("MESHSMITH_WHEEL_TEST")
 
 
 def pytest_configure(config) -> None:
+    # A suite started from a background job inherits SIGINT ignored: Python then installs no handler,
+    # so the Ctrl-C tests' interrupt_main / os.kill do nothing here and in the interpreters they start
+    # (an ignored signal stays ignored across exec; a handled one is reset to the default, which a
+    # child Python turns into KeyboardInterrupt).
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if WHEEL_UNDER_TEST:
         import meshsmith
         package = Path(meshsmith.__file__).resolve().parent

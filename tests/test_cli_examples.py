@@ -234,11 +234,6 @@ def test_normals_of_a_mesh_file_uses_its_vertices(inputs, tmp_path):
 
 # ---- Ctrl-C ------------------------------------------------------------------------------
 
-def _default_sigint():
-    """A child started from a background job inherits SIGINT ignored; a terminal's child does not."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 def _cpu_seconds(pid: int) -> float:
     """User + system CPU seconds a running process (all its threads) has used, from /proc."""
     with open(f"/proc/{pid}/stat") as stat:
@@ -270,7 +265,7 @@ def interrupt_on_terminal(command, marker: bytes, delay: float = 0.0):
     and return (exit status, the terminal's lines, CPU seconds from SIGINT to exit)."""
     leader, follower = pty.openpty()
     child = subprocess.Popen([sys.executable, "-m", "meshsmith", *map(str, command)], stdout=subprocess.PIPE,
-                             stderr=follower, preexec_fn=_default_sigint)
+                             stderr=follower)
     os.close(follower)
     shown = b""
     try:
@@ -322,7 +317,7 @@ print("finished", flush=True)
 
 def test_ctrl_c_reaches_the_library_abf_within_a_second():
     child = subprocess.Popen([sys.executable, "-c", LIBRARY_ABF], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True, preexec_fn=_default_sigint)
+                             text=True)
     try:
         assert child.stdout.readline().strip() == "ready", child.stderr.read()
         time.sleep(1.0)
