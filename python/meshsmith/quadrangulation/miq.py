@@ -38,7 +38,10 @@ class MiqResult(Unpackable):
     the map folded with them held (where flips remain, the feature edges within one quad edge of
     them are released and the map solved again, kept when it has fewer flips, else the radius
     grows by half a quad edge; at most six re-solves); release_rounds: the re-solve the result
-    came from (0: every feature as asked).
+    came from (0: every feature as asked); rerounded_integers: integer unknowns moved by ±1
+    after the repair because flips were left (each move kept only when the repaired map has
+    fewer flips: two cones rounded onto one point or into an order the triangles between them
+    cannot follow).
     """
 
     unpacks = ("UV", "flipped_before", "flipped_after")
@@ -55,13 +58,14 @@ class MiqResult(Unpackable):
     separation_conflicts: int
     released_feature_edges: int
     release_rounds: int
+    rerounded_integers: int
 
 
 @_arguments.real_options
 def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: float | None = None,
         target_quads: int | None = None, round_singularities: bool = True, round_translations: bool = True,
         repair_iterations: int = 10, stiffening: float = 5.0, sharp_angle: float | None = None,
-        progress: ProgressCallback = None) -> MiqResult:
+        reround: bool = True, progress: ProgressCallback = None) -> MiqResult:
     """A seamless integer-grid parametrization of (V, F) following a cross field (MIQ, §5.2.2
     step 3; Bommes, Zimmer & Kobbelt 2009).
 
@@ -71,7 +75,10 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
     seam's k·π/2 and a translation — with the translations and the singular vertices' (u, v)
     integers, rounded greedily (closest to an integer first, each rounding re-solving the rest
     exactly from one CHOLMOD factorization). Triangles left flipped are stiffened and the map
-    re-solved (``repair_iterations`` rounds, weight × ``stiffening``).
+    re-solved (``repair_iterations`` rounds, weight × ``stiffening``); where flips remain, an
+    integer that the corners near them depend on is moved by ±1 and the map repaired again,
+    kept when it has fewer flips (at most four moves; ``rerounded_integers``; ``reround=False``:
+    none).
     sharp_angle: None, or degrees: interior edges whose dihedral angle exceeds it are features
     (as in :func:`cross_field`, whose field should follow them: pass it the same sharp_angle);
     where the combed cross follows a feature edge to within 10°, the coordinate across it is
@@ -102,13 +109,14 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
             raise InputError(f"miq: sharp_angle must be in (0, 180) degrees, got {sharp_angle}")
     out = _core.miq(mesh.V, mesh.F, theta, target_edge_length=length, round_singularities=round_singularities,
                     round_translations=round_translations, repair_iterations=repair_iterations,
-                    stiffening=stiffening, sharp_angle=angle, progress=progress)
+                    stiffening=stiffening, sharp_angle=angle, reround=reround, progress=progress)
     return MiqResult(UV=out["uv"], flipped_before=int(out["flipped_before"]), flipped_after=int(out["flipped_after"]),
                      cut=field_cut(out["cut"], mesh, V), integer_variables=int(out["integer_variables"]),
                      rounding_residual=float(out["rounding_residual"]), repair_rounds=int(out["repair_rounds"]),
                      target_edge_length=length, feature_edges=int(out["feature_edges"]),
                      separations=int(out["separations"]), separation_conflicts=int(out["separation_conflicts"]),
-                     released_feature_edges=int(out["released_feature_edges"]), release_rounds=int(out["release_rounds"]))
+                     released_feature_edges=int(out["released_feature_edges"]), release_rounds=int(out["release_rounds"]),
+                     rerounded_integers=int(out["rerounded_integers"]))
 
 
 def grid_length(V: ArrayLike, F: ArrayLike, target_edge_length: float | None, target_quads: int | None,

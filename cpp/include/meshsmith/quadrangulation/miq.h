@@ -19,6 +19,9 @@ struct MiqOptions {
   int repair_iterations = 10;       ///< rounds of stiffening flipped triangles and re-solving at most
                                     ///< (it stops after three rounds without fewer flips)
   double stiffening = 5.0;          ///< factor on the weight of a flipped triangle (and its neighbours) per round
+  /// Where flips outlast the stiffening, move an integer unknown near them by ±1 and repair
+  /// again, kept when fewer flips remain (at most four moves; MiqResult::rerounded_integers).
+  bool reround = true;
   /// Interior edges whose dihedral angle exceeds this many degrees are features: where the
   /// combed cross follows such an edge (within 10°, as a field made with the same sharp_angle
   /// does), the coordinate across it is held constant along it and integer on both sides, so
@@ -41,6 +44,7 @@ struct MiqResult {
   Eigen::Index separation_conflicts = 0;  ///< roundings where no nearby integer kept every separation (the nearest taken)
   Eigen::Index released_feature_edges = 0;  ///< feature edges left free because the map folded with them held
   int release_rounds = 0;                   ///< re-solves with feature edges near the flips released
+  int rerounded_integers = 0;  ///< integer unknowns moved by ±1 after the repair, where flips were left (step 4)
 };
 
 /// A seamless integer-grid map of (V, F) following the cross field `theta` (#F angles, as
