@@ -99,6 +99,15 @@ def points_file(tmp_path):
     return path
 
 
+def range_scan_file(tmp_path):
+    path = tmp_path / "scan.ply"
+    path.write_text("ply\nformat ascii 1.0\nobj_info num_cols 2\nobj_info num_rows 2\nelement vertex 4\n"
+                    "property float x\nproperty float y\nproperty float z\nelement range_grid 4\n"
+                    "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n"
+                    "1 0\n1 1\n1 2\n1 3\n")
+    return path
+
+
 def poly_file(tmp_path):
     path = tmp_path / "square.poly"
     path.write_text("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
@@ -122,6 +131,7 @@ RESULTS = {
     "io.read_mesh attributes": (lambda tmp: io.read_mesh(mesh_file(tmp), return_attributes=True), ["V", "F"]),
     "io.read_points": (lambda tmp: io.read_points(points_file(tmp)), ["P", "N"]),
     "io.read_poly": (lambda tmp: io.read_poly(poly_file(tmp)), ["P", "segments", "holes"]),
+    "io.read_range_scan": (lambda tmp: io.read_range_scan(range_scan_file(tmp)), ["V", "F", "grid", "spacing"]),
     "topology.connected_components": (lambda tmp: topology.connected_components(disk()[1]),
                                       ["count", "face_labels", "vertex_labels"]),
     "topology.split_non_manifold_vertices": (lambda tmp: topology.split_non_manifold_vertices(*disk()),
@@ -416,7 +426,7 @@ def test_options_are_keyword_only_after_the_geometry():
 
 
 def test_io_takes_the_path_first_and_everything_else_the_geometry_first():
-    for function in (io.read_mesh, io.write_mesh, io.read_points, io.write_points, io.read_poly):
+    for function in (io.read_mesh, io.write_mesh, io.read_points, io.write_points, io.read_poly, io.read_range_scan):
         assert next(iter(inspect.signature(function).parameters)) == "path"
     assert list(inspect.signature(render.render).parameters)[:3] == ["V", "F", "path"]
     assert list(inspect.signature(render.parametrization_picture).parameters)[:2] == ["result", "path"]

@@ -98,7 +98,12 @@ def files(folder: Path) -> dict[str, str]:
     xyz.write_text("".join(f"{x} {y} {z}\n" for x, y, z in POINTS))
     poly = folder / "in.poly"
     poly.write_text("4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 0\n0\n")
-    return {"obj": str(obj), "xyz": str(xyz), "poly": str(poly), "out": str(folder / "out")}
+    scan = folder / "scan.ply"   # a 2 × 2 range grid
+    scan.write_text("ply\nformat ascii 1.0\nobj_info num_cols 2\nobj_info num_rows 2\nelement vertex 4\n"
+                    "property float x\nproperty float y\nproperty float z\nelement range_grid 4\n"
+                    "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n"
+                    "1 0\n1 1\n1 2\n1 3\n")
+    return {"obj": str(obj), "xyz": str(xyz), "poly": str(poly), "scan": str(scan), "out": str(folder / "out")}
 
 
 #: Valid values by parameter name, for every function unless VALID overrides them (by chapter
@@ -123,6 +128,7 @@ VALID = {
     "io.read_points": lambda f: {"path": f["xyz"]},
     "io.write_points": lambda f: {"path": f["out"] + ".ply"},
     "io.read_poly": lambda f: {"path": f["poly"]},
+    "io.read_range_scan": lambda f: {"path": f["scan"]},
     "io.Polygons.from_triangles": {},
     "io.Polygons.from_list": {"faces": [[0, 1, 2, 3], [3, 2, 4]]},
     "io.Polygons.triangulate": {"owner": ("io.Polygons", (np.array([0, 4, 7]), np.array([0, 1, 2, 3, 3, 2, 4])))},

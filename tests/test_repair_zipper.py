@@ -6,7 +6,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import meshsmith
-from meshsmith import datasets, geometry, repair, topology
+from meshsmith import datasets, geometry, io, repair, topology
 
 
 def piece(V, F, keep):
@@ -130,32 +130,13 @@ BUN045_POSE[:3, :3] = Rotation.from_quat([0.00548449, -0.294635, -0.0038555, 0.9
 BUN045_POSE[:3, 3] = [-0.0520211, -0.000383981, -0.0109223]
 
 
-def range_scan(path, max_edge=4.0):
-    """A raw Cyberware range scan (ASCII PLY with a num_rows × num_cols 'range_grid' element of
-    vertex indices) meshed from its grid: each grid cell with four samples split along its shorter
-    diagonal, one with three gives one triangle; triangles with an edge longer than `max_edge`
-    grid spacings (depth jumps, silhouettes) dropped; oriented towards the scanner (+z). Returns
-    (V, F, spacing) with F cleaned (manifold, oriented)."""
-    lines = path.read_text().splitlines()
-    end = lines.index("end_header")
-    info = {w[1]: w[2] for w in (line.split() for line in lines[:end]) if len(w) == 3 and w[0] in ("obj_info", "element")}
-    rows, cols, n = int(info["num_rows"]), int(info["num_cols"]), int(info["vertex"])
-    V = np.array([line.split() for line in lines[end + 1:end + 1 + n]], dtype=np.float64)
-    grid = np.array([int(line.split()[1]) if line[0] != "0" else -1
-                     for line in lines[end + 1 + n:end + 1 + n + rows * cols]]).reshape(rows, cols)
-    a, b, c, d = grid[:-1, :-1].ravel(), grid[:-1, 1:].ravel(), grid[1:, :-1].ravel(), grid[1:, 1:].ravel()
-    full = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
-    short_bc = full & (np.linalg.norm(V[b] - V[c], axis=1) <= np.linalg.norm(V[a] - V[d], axis=1))
-    short_ad = full & ~short_bc
-    three = (a >= 0).astype(int) + (b >= 0) + (c >= 0) + (d >= 0) == 3
-    F = np.vstack([np.column_stack(t)[m] for t, m in [
-        ((b, c, a), short_bc), ((d, c, b), short_bc), ((d, c, a), short_ad), ((b, d, a), short_ad),
-        ((b, c, a), three & (d < 0)), ((d, c, b), three & (a < 0)), ((b, d, a), three & (c < 0)),
-        ((d, c, a), three & (b < 0))]])
-    spacing = float(np.median(np.linalg.norm(V[a[full]] - V[b[full]], axis=1)))
-    longest = np.linalg.norm(V[F] - V[np.roll(F, -1, axis=1)], axis=2).max(axis=1)
-    V, F, _ = repair.clean(V, F[longest <= max_edge * spacing])
-    for _ in range(3):      # grazing-angle triangles folded over their neighbours: dropped
+def range_scan(path):
+    """A raw Cyberware range scan meshed from its grid (io.read_range_scan: triangles with an edge
+    longer than 4 grid spacings dropped), cleaned (manifold, oriented), with the grazing-angle
+    triangles that fold over their neighbours dropped. Returns (V, F, spacing)."""
+    V, F, _, spacing = io.read_range_scan(path)
+    V, F, _ = repair.clean(V, F)
+    for _ in range(3):
         pairs = repair.self_intersections(V, F)
         if not len(pairs):
             break

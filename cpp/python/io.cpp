@@ -161,6 +161,13 @@ void bind_io(py::module_& m) {
     py::list warnings;
     for (const std::string& warning : mesh.warnings) warnings.append(warning);
     out["warnings"] = warnings;
+    if (mesh.range_grid_rows > 0 && mesh.range_grid_cols > 0) {
+      py::array_t<std::int64_t> grid({mesh.range_grid_rows, mesh.range_grid_cols});
+      std::copy(mesh.range_grid.begin(), mesh.range_grid.end(), grid.mutable_data());
+      out["range_grid"] = grid;
+    } else {
+      out["range_grid"] = py::none();
+    }
     if (triangulate) {
       out["F"] = to_numpy(std::move(F));
       out["F_uv"] = has_uv ? py::object(to_numpy(std::move(F_uv))) : py::none();

@@ -58,6 +58,7 @@ double decode_scalar(Scalar type, const char* data, bool swap) {
 /// What read_mesh does with a property.
 enum class Role {
   skip, x, y, z, nx, ny, nz, u, v, red, green, blue, alpha, face_indices, strip_indices, texcoord,
+  grid_index,  // a range_grid cell's list of 0 or 1 vertex indices
   count_
 };
 
@@ -102,6 +103,7 @@ struct Header {
   std::vector<Element> elements;
   std::size_t body_offset = 0;  // first byte after end_header's line
   std::size_t body_line = 0;    // line number of the first body line (ASCII)
+  std::int64_t grid_rows = -1, grid_cols = -1;  // obj_info num_rows / num_cols (range scans), -1: not given
 };
 
 /// red, green, blue, alpha (and the diffuse_ names of older Stanford files).
@@ -135,7 +137,15 @@ Header parse_header(const std::string& path, std::string_view bytes) {
   while (!have_end && lines.next(line)) {
     Tokens tokens(line);
     if (!tokens.next(token)) continue;
-    if (token == "comment" || token == "obj_info") continue;
+    if (token == "comment") continue;
+    if (token == "obj_info") {  // free text; a range scan's grid size is read from it
+      std::string_view key, value;
+      std::int64_t number = 0;
+      if (tokens.next(key) && (key == "num_rows" || key == "num_cols") && tokens.next(value) &&
+          tokens.empty() && parse_integer(value, number) && number >= 0)
+        (key == "num_rows" ? header.grid_rows : header.grid_cols) = number;
+      continue;
+    }
     if (token == "format") {
       std::string_view encoding, version;
       if (!tokens.next(encoding) || !tokens.next(version) || !tokens.empty())
@@ -189,6 +199,7 @@ Header parse_header(const std::string& path, std::string_view bytes) {
       } else if (property.is_list && (name == "vertex_indices" || name == "vertex_index")) {
         if (element.name == "face") property.role = Role::face_indices;
         if (element.name == "tristrips") property.role = Role::strip_indices;
+        if (element.name == "range_grid") property.role = Role::grid_index;
         if (property.role != Role::skip && !is_integral(property.type))
           lines.fail("vertex indices must have an integer type");
       }
@@ -339,6 +350,8 @@ class MeshBuilder {
     list_.clear();
     if (role == Role::face_indices && count < 3)
       return "face with " + std::to_string(count) + " corners (at least 3 needed)";
+    if (role == Role::grid_index && count > 1)
+      return "range grid cell with " + std::to_string(count) + " vertex indices (0 or 1 expected)";
     return {};
   }
 
@@ -348,6 +361,11 @@ class MeshBuilder {
     if (role_ == Role::texcoord) {
       if (!std::isfinite(value)) return false;
       if (read_faces_) record_uv_.push_back(value);
+      return true;
+    }
+    if (role_ == Role::grid_index) {
+      if (!(value >= 0 && value < vertex_limit_)) return false;
+      list_.push_back(static_cast<int>(value));
       return true;
     }
     if (role_ == Role::strip_indices) {
@@ -395,6 +413,30 @@ class MeshBuilder {
     if (!read_faces_) return;
     if (role_ == Role::face_indices) mesh.face_offsets.push_back(mesh.face_vertices.size());
     else if (role_ == Role::strip_indices) add_strips();
+    else if (role_ == Role::grid_index) mesh.range_grid.push_back(list_.empty() ? -1 : list_.front());
+  }
+
+  /// Keeps the range grid when the header gave its size and the cell count matches it; else a
+  /// warning and no grid.
+  void finish_grid(const Header& header) {
+    if (!read_faces_) return;
+    bool declared = false;
+    for (const Element& element : header.elements)
+      if (element.name == "range_grid") declared = RoleSet(element)[Role::grid_index];
+    if (!declared) return;
+    const auto cells = static_cast<std::int64_t>(mesh.range_grid.size());
+    if (header.grid_rows < 0 || header.grid_cols < 0) {
+      mesh.warnings.push_back("the range_grid element is not kept: the header gives no 'obj_info num_rows' and 'obj_info num_cols'");
+      mesh.range_grid.clear();
+    } else if (header.grid_rows == 0 ? cells != 0
+                                     : cells % header.grid_rows != 0 || cells / header.grid_rows != header.grid_cols) {
+      mesh.warnings.push_back("the range_grid element is not kept: " + std::to_string(cells) + " cells, not num_rows × num_cols = " +
+                              std::to_string(header.grid_rows) + " × " + std::to_string(header.grid_cols));
+      mesh.range_grid.clear();
+    } else {
+      mesh.range_grid_rows = header.grid_rows;
+      mesh.range_grid_cols = header.grid_cols;
+    }
   }
 
   bool needs_vertex_count() const { return !has_vertices_; }
@@ -728,6 +770,7 @@ PolygonMesh parse_ply(const std::string& path, std::string_view bytes, bool read
   if (header.encoding == Encoding::ascii) parse_ascii_body(path, bytes, header, builder);
   else parse_binary_body(path, bytes, header, builder);
   if (builder.mesh.V.rows() == 0) throw InputError(path + ": the PLY file has no vertices");
+  builder.finish_grid(header);
   return builder.finish();
 }
 

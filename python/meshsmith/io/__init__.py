@@ -45,7 +45,8 @@ OFF      ASCII and binary with the ``[ST][C][N]OFF`` prefixes (texture coordinat
 PLY      ASCII and binary, either endianness; ``vertex`` (x y z, nx ny nz, u v / s t /
          texture_u texture_v, red green blue alpha), ``face`` (``vertex_indices`` or
          ``vertex_index``, red green blue alpha, ``texcoord`` lists of u v per corner) and
-         ``tristrips`` (-1 restarts a strip); all other elements and properties, lists
+         ``tristrips`` (-1 restarts a strip); a range scan's ``range_grid`` is skipped with a
+         warning (:func:`read_range_scan` meshes it); all other elements and properties, lists
          included, skipped by their types.
 STL      ASCII and binary; vertices with exactly equal coordinates are merged.
 GLB      glTF 2.0 binary: the triangles of every mesh of the default scene, with the nodes'
@@ -75,9 +76,10 @@ from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, PathLike
 from ..core import Mesh, PointCloud
 from . import gltf
+from .range_scan import RangeScan, read_range_scan
 
 __all__ = ["Polygons", "PolygonMesh", "PlanarGraph", "MeshData", "SkippedDataWarning", "read_mesh", "write_mesh",
-           "read_points", "write_points", "read_poly"]
+           "read_points", "write_points", "read_poly", "RangeScan", "read_range_scan"]
 
 _BINARY_BY_DEFAULT = {"ply": True, "stl": True, "off": False, "obj": False, "xyz": False}
 
@@ -290,7 +292,12 @@ def _read(path: PathLike, triangulate: bool, format: str | None, attributes: boo
         return _read_glb(path, triangulate)
     out = _core.read_mesh(os.fsdecode(path), _format(format), bool(triangulate), attributes,
                           attributes, attributes)
-    _warn(path, out["warnings"], stacklevel=3)
+    skipped = list(out["warnings"])
+    if out["range_grid"] is not None:
+        rows, cols = out["range_grid"].shape
+        skipped.append(f"the range grid ({rows} × {cols} cells) is not meshed: meshsmith.io.read_range_scan "
+                       "meshes it")
+    _warn(path, skipped, stacklevel=3)
     if triangulate:
         return MeshData(out["V"], out["F"], out["N"], out["F_normal"], out["UV"], out["F_uv"],
                         out["colors"], out["face_colors"])

@@ -67,6 +67,12 @@ struct PolygonMesh {
   ColorMatrix colors;
   ColorMatrix face_colors;
   std::vector<std::string> warnings;
+  /// A range scan's grid (PLY's `range_grid` element, with `obj_info num_rows R` and `obj_info
+  /// num_cols C` in the header, as the Stanford scans store it): R·C cells in row-major order,
+  /// each the vertex sampled there or -1 where the scanner saw nothing; empty when the file has
+  /// none. Readers do not mesh it (meshsmith.io.read_range_scan does).
+  std::vector<int> range_grid;
+  std::int64_t range_grid_rows = 0, range_grid_cols = 0;
 
   std::int64_t face_count() const { return static_cast<std::int64_t>(face_offsets.size()) - 1; }
 };
