@@ -595,8 +595,9 @@ CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOpt
     rhs[a] += mu[f] * target[f];
   }
   Eigen::VectorXd mass(n_free);
+  const double mean_area = mesh.area.mean();  // once: inside the loop it made this O(m²) (1.3 s of pmp-bunny's 1.5)
   for (Eigen::Index f = 0; f < m; ++f) {
-    if (free_index[f] >= 0) mass[free_index[f]] = mesh.area[f] / mesh.area.mean();
+    if (free_index[f] >= 0) mass[free_index[f]] = mesh.area[f] / mean_area;
   }
   const double shift = anchored ? 0.0 : 1e-8 * (n_free > 0 ? diagonal.mean() : 0.0);
   for (int i = 0; i < n_free; ++i) triplets.emplace_back(i, i, Complex(diagonal[i] + shift * mass[i], 0.0));

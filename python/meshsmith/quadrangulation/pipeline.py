@@ -60,14 +60,15 @@ class QuadrangulationReport(Unpackable):
 
 #: Merge distances tried, in quad edges, until MIQ leaves no flipped triangle (the flips do not
 #: fall monotonically with the distance). Largest first: every pair merged is a pair of irregular
-#: vertices fewer in the quad mesh. Measured at 3,000 quads (2026-12-02): starting at 3.5 every one of
-#: spot, kitten, fertility, fandisk, rocker-arm and pmp-bunny is flip-free at the first attempt with
-#: 44 / 28 / 36 / 20 / 18 / 36 irregular vertices (the old order starting at 1.0: 69 / 34 / 48 / 30 /
-#: 28 / 56; QuadriFlow 62 / 30 / 66 / 40 / 44 / 56); the mean quad angle deviation moves by −0.4° to
-#: +2.7° (fertility 4.4° → 7.1°, fandisk 7.3° → 8.8°). Shorter distances remain for meshes where long
-#: merges fold; kitten at 5,000 quads needs 4.0 (shorter ones leave 1–4 degenerate triangles between a
-#: ±1 pair 0.4–0.9 quad edges apart that they do not cancel).
-MERGE_SCHEDULE = (3.5, 3.0, 2.5, 2.0, 1.5, 1.0, 1.25, 0.75, 0.5, 4.0)
+#: vertices fewer in the quad mesh. Measured at 3,000 quads (2026-12-03, with MIQ's re-rounding,
+#: over three OpenBLAS kernels × four 1e-9 perturbations of each mesh): starting at 4.0, kitten /
+#: pmp-bunny / fandisk get 24–28 / 28–30 / 18–20 irregular vertices where 3.5 gave 28–30 / 36–38 /
+#: 20–22 (QuadriFlow 30 / 56 / 40: at 3.5 kitten only tied it), rocker-arm and fertility the same
+#: (18–22, 36; fertility folds at 4.0 and needs 3.5, a second MIQ solve), spot 48 instead of 44
+#: (QuadriFlow 62); the mean quad angle deviation moves by −0.1° to +1.2° (rocker-arm 5.8° → 6.9°
+#: on two of the four copies). Shorter distances remain for meshes where long merges fold; kitten at
+#: 2,000 quads needs up to 2.5.
+MERGE_SCHEDULE = (4.0, 3.5, 3.0, 2.5, 2.0, 1.5, 1.0, 1.25, 0.75, 0.5)
 
 #: The merge distances tried while feature edges are held on iso-lines (sharp_angle), shortest
 #: first: cones beside a feature stay where the feature needs them (the fixed feature faces keep
@@ -127,9 +128,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     "boundary" or "smooth"; feature edges above sharp_angle degrees are followed); rounding: the
     cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
     merge: cancel or separate singularity pairs closer than about a quad edge before MIQ
-    (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (3.5 quad edges
-    down to 0.5, then 4: the longest merge that does not fold leaves the fewest irregular
-    vertices) until MIQ leaves no flipped triangle, and keeping the attempt with the fewest. With sharp_angle, MIQ first holds
+    (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (4 quad edges
+    down to 0.5: the longest merge that does not fold leaves the fewest irregular vertices) until MIQ leaves no flipped triangle, and keeping the attempt with the fewest. With sharp_angle, MIQ first holds
     the feature edges on integer iso-lines (so they become quad edges), trying the distances of
     ``FEATURE_MERGE_SCHEDULE`` (shortest first); if every one still folds, ``MERGE_SCHEDULE`` is
     run without those constraints (the field still follows the features) and
