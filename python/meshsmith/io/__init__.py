@@ -63,7 +63,6 @@ the file cannot hold, garbage tokens, indices out of range -- raises
 from __future__ import annotations
 
 import os
-import warnings
 from dataclasses import dataclass, fields
 from typing import Any, Literal, NamedTuple, Sequence, overload
 
@@ -76,16 +75,13 @@ from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, PathLike
 from ..core import Mesh, PointCloud
 from . import gltf
+from ._skipped import SkippedDataWarning, warn_skipped
 from .range_scan import RangeScan, read_range_scan
 
 __all__ = ["Polygons", "PolygonMesh", "PlanarGraph", "MeshData", "SkippedDataWarning", "read_mesh", "write_mesh",
            "read_points", "write_points", "read_poly", "RangeScan", "read_range_scan"]
 
 _BINARY_BY_DEFAULT = {"ply": True, "stl": True, "off": False, "obj": False, "xyz": False}
-
-
-class SkippedDataWarning(UserWarning):
-    """A reader skipped something the file holds (an unknown OBJ statement, partial colours...)."""
 
 
 @dataclass(frozen=True)
@@ -268,14 +264,9 @@ def _resolved_format(path: PathLike, format: str | None) -> str:
     return os.path.splitext(os.fsdecode(path))[1].lstrip(".").lower()
 
 
-def _warn(path: PathLike, messages: Sequence[str], stacklevel: int = 3) -> None:
-    for message in messages:
-        warnings.warn(f"{os.fsdecode(path)}: {message}", SkippedDataWarning, stacklevel=stacklevel + 1)
-
-
 def _read_glb(path: PathLike, triangulate: bool) -> MeshData:
     arrays, skipped = gltf.read_glb(path)
-    _warn(path, skipped, stacklevel=4)
+    warn_skipped(path, skipped, stacklevel=4)
     mesh = MeshData(**arrays)
     if triangulate:
         return mesh
@@ -297,7 +288,7 @@ def _read(path: PathLike, triangulate: bool, format: str | None, attributes: boo
         rows, cols = out["range_grid"].shape
         skipped.append(f"the range grid ({rows} × {cols} cells) is not meshed: meshsmith.io.read_range_scan "
                        "meshes it")
-    _warn(path, skipped, stacklevel=3)
+    warn_skipped(path, skipped, stacklevel=3)
     if triangulate:
         return MeshData(out["V"], out["F"], out["N"], out["F_normal"], out["UV"], out["F_uv"],
                         out["colors"], out["face_colors"])

@@ -19,6 +19,7 @@ from .. import _arguments
 from .._core import InputError
 from .._core import io as _core
 from .._typing import FloatArray, IndexArray, PathLike
+from ._skipped import warn_skipped
 
 
 class RangeScan(NamedTuple):
@@ -55,9 +56,7 @@ def read_range_scan(path: PathLike, *, max_edge: float | None = 4.0) -> RangeSca
     if max_edge is not None and not (math.isfinite(max_edge) and max_edge > 0):
         raise InputError(f"read_range_scan: max_edge must be positive and finite, got {max_edge}")
     out = _core.read_mesh(os.fsdecode(path), "ply", True, False, False, False)
-    from . import _warn  # the package's warning helper (its __init__ imports this module)
-    messages = [m for m in out["warnings"] if "range_grid" not in m]
-    _warn(path, messages, stacklevel=2)
+    warn_skipped(path, [m for m in out["warnings"] if "range_grid" not in m], stacklevel=3)  # above the option check
     grid = out["range_grid"]
     if grid is None:
         reasons = [m for m in out["warnings"] if "range_grid" in m]
