@@ -7,7 +7,8 @@ fandisk.obj (12,946, sharp features), rocker-arm.obj (20,088, genus 1) and pmp-b
 one round, it is the slowest); quick mode: the torus and spot. Target: 3,000
 quads on the shared meshes, 300 on the torus; the peers get the same count (Instant Meshes as its
 target vertex count — a closed quad mesh has about as many vertices as faces —, QuadriFlow as its
-requested faces).
+requested faces); Instant Meshes again asked for a quarter of the target ("Instant Meshes/4"), which
+returns about the target, so that its figures are also read at the same output size.
 
 Same work: each call remeshes the same triangle mesh into quads at the same target; the peers
 solve the problem differently (Instant Meshes: local position/orientation fields, quad-dominant
@@ -20,8 +21,8 @@ Spectral cases (§5.2.1, spectral_quadrangulate) on the torus and the real meshe
 figures; checks: pure quads, manifold, oriented, χ kept (0 violations), the Morse invariant, quad
 count within 50% of the target.
 Result checks (tolerances): meshsmith's mesh is pure quads, manifold and oriented (0 violations);
-on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 40% of the
-target (MIQ sets the grid size from the area, so the count follows the map's scale); no MIQ flip
+on the torus it is complete (χ = 0) with 0 irregular vertices; the quad count within 10% of the
+target (40% on the 300-quad torus; MIQ calibrates its grid on the continuous map); no MIQ flip
 left, the extraction complete and every quad convex (minimum scaled Jacobian > 0).
 
 fandisk.obj again with sharp_angle=40 (MIQ holds its feature edges on integer iso-lines) at 3,000
@@ -92,18 +93,25 @@ def describe(V, Q, euler, input_mesh):
                 valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
 
 
+#: Instant Meshes asked for a quarter of the target (it returns about 4× the vertex count asked for).
+IM_QUARTER = "Instant Meshes/4"
+
+
 def side_by_side(bench, im, qf, V, F, target, euler, options):
     """Times quadrangulate(V, F, target_faces=target, **options) and the peers at the same target,
     prints the report and describe()'s figures per tool; returns meshsmith's result and the figures."""
     bench.time("meshsmith", lambda: quadrangulate(V, F, target_faces=target, **options))
     if im:
         bench.time("Instant Meshes", lambda: instant_meshes(im, V, F, target))
+        # asked for a quarter, Instant Meshes returns about the count the others return: its
+        # figures at the same output size
+        bench.time(IM_QUARTER, lambda: instant_meshes(im, V, F, target // 4))
     if qf:
         bench.time("QuadriFlow", lambda: quadriflow(qf, V, F, target))
     bench.report()
     result = bench.output("meshsmith")
     figures = {"meshsmith": describe(result.V, result.Q, euler, (V, F))}
-    for peer in ("Instant Meshes", "QuadriFlow"):
+    for peer in ("Instant Meshes", IM_QUARTER, "QuadriFlow"):
         if peer in bench.outputs:
             figures[peer] = describe(*bench.output(peer), euler, (V, F))
     print_figures(figures, euler)
@@ -143,7 +151,8 @@ def main():
         T = np.concatenate([result.Q[:, [0, 1, 2]], result.Q[:, [0, 2, 3]]])
         bench.check("meshsmith: non-quad faces + non-manifold + unoriented",
                     figures["meshsmith"]["non_quads"] + (not topology.is_manifold(T)) + (not topology.is_oriented(T)), 0)
-        bench.check("meshsmith: |quads − target| / target", abs(len(result.Q) - target) / target, 0.4)
+        bench.check("meshsmith: |quads − target| / target", abs(len(result.Q) - target) / target,
+                    0.4 if name == "torus" else 0.1)
         bench.check("meshsmith: MIQ flips left + (not complete) + (min scaled Jacobian <= 0)",
                     report.flipped_after + (not report.extraction.complete) + (not report.min_scaled_jacobian > 0), 0)
         if name == "torus":

@@ -75,17 +75,18 @@ def test_bumpy_cube_gets_its_eight_corners_and_no_flip(data_dir):
 # greedy rounding is chaotic: which integer a value within rounding error of a half goes to changes
 # with OpenBLAS's kernel (CHOLMOD's supernodal solves) and with moving the vertices by 1e-9 of the
 # diagonal, and so do the flips, the merge distance that ends them and the figures after it. The
-# bounds come from a sweep (2026-12-03, MIQ's re-rounding, the merge schedule from 4.0 quad
-# edges): OpenBLAS's Haswell, SkylakeX and Sandybridge kernels × the mesh as read and three 1e-9
-# perturbations. Measured ranges: minimum scaled Jacobian spot 0.29–0.36, pmp-bunny 0.31–0.32,
-# rocker-arm 0.22–0.64, fertility 0.27, fandisk 0.23–0.30, kitten 0.30–0.33; irregular vertices
-# 48, 28–30, 18–22, 36, 18–20, 24–28; mean |angle − 90°| 5.1–5.7°, 6.9–7.1°, 4.6–6.9°, 6.2°,
-# 7.4–8.3°, 5.9–6.2°; MIQ attempts 1, 1, 1–3, 2, 1, 1. The second number bounds the irregular
-# count from above: QuadriFlow's count on the same mesh at the same request
-# (bench_quadrangulation.py, 2026-12-02: 62, 56, 44, 66, 40, 30), which the issue asks us to beat.
-# The third bounds the mean angle deviation (QuadriFlow: 10.7°, 9.9°, 8.1°, 7.3°, 6.7°, 8.2°).
-SHARED = {"spot.obj": (0.25, 62, 6.0), "pmp-bunny.off": (0.2, 56, 7.4), "rocker-arm.obj": (0.18, 44, 7.2),
-          "fertility.off": (0.2, 66, 6.5), "fandisk.obj": (0.2, 40, 8.7), "kitten.off": (0.2, 30, 6.5)}
+# bounds come from a sweep (2026-12-03, MIQ's grid calibrated to the count and its repair solved
+# locally): OpenBLAS's Haswell, SkylakeX and Sandybridge kernels × the mesh as read and three 1e-9
+# perturbations. Measured ranges: minimum scaled Jacobian spot 0.27–0.41, pmp-bunny 0.24–0.30,
+# rocker-arm 0.32–0.36, fertility 0.26, fandisk 0.32–0.35, kitten 0.23–0.66; irregular vertices
+# 48, 28–30, 18–20, 36, 18–20, 24–28; mean |angle − 90°| 5.2–5.5°, 6.9–7.0°, 7.0–7.4°, 6.2°,
+# 6.6–8.0°, 5.9–6.2°; MIQ attempts 1, 1, 1, 2, 1, 1; quads 2,943–3,079 (−1.9% to +2.6%). The second
+# number bounds the irregular count from above: QuadriFlow's count on the same mesh at the same
+# request (bench_quadrangulation.py, 2026-12-02: 62, 56, 44, 66, 40, 30), which the issue asks us
+# to beat. The third bounds the mean angle deviation (QuadriFlow: 10.7°, 9.9°, 8.1°, 7.3°, 6.7°,
+# 8.2°; fandisk's is above QuadriFlow's, not reached).
+SHARED = {"spot.obj": (0.2, 62, 6.0), "pmp-bunny.off": (0.2, 56, 7.4), "rocker-arm.obj": (0.25, 44, 7.9),
+          "fertility.off": (0.2, 66, 6.6), "fandisk.obj": (0.25, 40, 8.7), "kitten.off": (0.2, 30, 6.5)}
 
 
 @pytest.mark.parametrize("name", sorted(SHARED))
@@ -97,13 +98,13 @@ def test_shared_meshes_give_closed_pure_quad_meshes(data_dir, name):
     assert report.extraction.complete
     assert_valid(Vq, Q, euler)
     assert report.singular_indices.sum() == 4 * euler  # Poincaré–Hopf
-    assert 0.85 * 3000 < len(Q) < 1.15 * 3000
+    assert 0.95 * 3000 < len(Q) < 1.05 * 3000 and 0.95 * 3000 < len(Vq) < 1.05 * 3000  # the issue: within 10%
     min_jacobian, irregular_bound, angle_bound = SHARED[name]
     assert report.min_scaled_jacobian > min_jacobian
     assert report.irregular_vertices < irregular_bound
     assert report.mean_angle_deviation < angle_bound
-    # flip-free within the first merge distances of the schedule (4.0 … 2.5 quad edges; at most 3 seen)
-    assert report.miq_attempts <= 4 and report.merge_distance > 0
+    # flip-free within the first merge distances of the schedule (4.0 … 3.0 quad edges; at most 2 seen)
+    assert report.miq_attempts <= 3 and report.merge_distance > 0
 
 
 @pytest.mark.parametrize("name, quads", [("kitten.off", 2000), ("rocker-arm.obj", 5000), ("kitten.off", 5000)])
@@ -116,12 +117,13 @@ def test_other_sizes(data_dir, name, quads):
     assert report.flipped_after == 0
     assert report.extraction.complete and report.min_scaled_jacobian > 0
     assert_valid(Vq, Q, topology.euler_characteristic(F))
+    assert abs(len(Q) - quads) < 0.05 * quads  # measured: −0.4% to +2.7%
 
 
 def test_fandisk_keeps_its_sharp_edges_as_quad_edges(data_dir):
     # With sharp_angle MIQ holds fandisk's feature edges on integer iso-lines (lines of quad
-    # edges) and the map is flip-free at the first merge distance. Measured at 3,000 quads: 675
-    # of the 710 edges above 40° held, 95.1% of the feature length on integer iso-lines; in 3D
+    # edges) and the map is flip-free at the first merge distance. Measured at 3,000 quads: 681
+    # of the 710 edges above 40° held (2026-12-03, three OpenBLAS kernels alike); in 3D
     # 85% of the feature points lie within 0.01 quad edges of a quad edge (the quad edges are
     # chords of the curved feature lines; 19% within 1e-6, on the straight ones).
     V, F = io.read_mesh(data_dir / "fandisk.obj")

@@ -109,12 +109,13 @@ void bind_quadrangulation(py::module_& m) {
   }, py::arg("V"), py::arg("F"), py::arg("theta"));
 
   m.def("miq", [](const py::object& V, const py::object& F, const py::object& theta, double target_edge_length,
-                  bool round_singularities, bool round_translations, const py::object& repair_iterations,
+                  double target_quads, bool round_singularities, bool round_translations, const py::object& repair_iterations,
                   double stiffening, double sharp_angle, bool reround, const py::object& callback) {
     const MeshArguments mesh(V, F);
     const Eigen::VectorXd angles = as_angles(theta);
     MiqOptions options;
     options.target_edge_length = target_edge_length;
+    options.target_quads = target_quads;
     options.round_singularities = round_singularities;
     options.round_translations = round_translations;
     options.repair_iterations = integer_argument<int>(repair_iterations, "repair_iterations", 0, 1000);
@@ -136,10 +137,11 @@ void bind_quadrangulation(py::module_& m) {
     out["released_feature_edges"] = result.released_feature_edges;
     out["release_rounds"] = result.release_rounds;
     out["rerounded_integers"] = result.rerounded_integers;
+    out["target_edge_length"] = result.target_edge_length;
     out["cut"] = cut_dict(std::move(result.cut));
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("target_edge_length") = 0.0,
-     py::arg("round_singularities") = true, py::arg("round_translations") = true, py::arg("repair_iterations") = 10,
+     py::arg("target_quads") = 0.0, py::arg("round_singularities") = true, py::arg("round_translations") = true, py::arg("repair_iterations") = 10,
      py::arg("stiffening") = 5.0, py::arg("sharp_angle") = 0.0, py::arg("reround") = true,
      py::arg("progress") = py::none(),
      "Mixed-integer quadrangulation parametrization (§5.2.2 step 3); see meshsmith.quadrangulation.miq.");

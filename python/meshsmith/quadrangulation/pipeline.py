@@ -122,8 +122,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     Ebke et al. 2013).
 
     V: (n, 3) float array; F: (m, 3) integer array, a clean connected oriented manifold (see
-    :func:`cross_field`). target_faces: about how many quads (the grid size from the surface
-    area), or target_edge_length: the quad edge length in input units; neither: MIQ's default
+    :func:`cross_field`). target_faces: about how many quads (MIQ's grid unit calibrated on
+    its continuous map to cover that many unit squares, see :func:`miq`), or target_edge_length: the quad edge length in input units; neither: MIQ's default
     (twice the mean triangle side). align, sharp_angle: as :func:`cross_field` ("curvature",
     "boundary" or "smooth"; feature edges above sharp_angle degrees are followed); rounding: the
     cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
@@ -171,7 +171,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     for attempt, (factor, features) in enumerate(plans):
         trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
         begin = 0.15 + 0.7 * attempt / len(plans)
-        param = miq(V, F, trial, target_edge_length=length, sharp_angle=features,
+        param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
+                    target_quads=target_faces, sharp_angle=features,
                     progress=_stage(progress, begin, begin + 0.7 / len(plans)))
         attempts += 1
         if best is None or param.flipped_after < best[1].flipped_after:
