@@ -95,6 +95,28 @@ void bind_quadrangulation(py::module_& m) {
     return field_edges_dict(without_gil([&] { return field_edges(mesh.V(), mesh.F(), angles); }));
   }, py::arg("V"), py::arg("F"), py::arg("theta"));
 
+  m.def("resolve_angles", [](const py::object& V, const py::object& F, const py::object& theta,
+                             const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& jumps,
+                             const py::array_t<bool, py::array::c_style | py::array::forcecast>& held) {
+    const MeshArguments mesh(V, F);
+    const Eigen::VectorXd angles = as_angles(theta);
+    if (jumps.ndim() != 1 || held.ndim() != 1) throw InputError("resolve_angles: jumps and held must be 1-D arrays");
+    std::vector<int> jump_values(static_cast<std::size_t>(jumps.size()));
+    for (py::ssize_t k = 0; k < jumps.size(); ++k) {
+      const std::int64_t value = jumps.data()[k];
+      if (value < -(1 << 20) || value > (1 << 20)) throw InputError("resolve_angles: a period jump is out of range");
+      jump_values[static_cast<std::size_t>(k)] = static_cast<int>(value);
+    }
+    std::vector<char> held_values(held.data(), held.data() + held.size());
+    ResolvedAngles resolved = without_gil([&] { return resolve_angles(mesh.V(), mesh.F(), angles, jump_values, held_values); });
+    py::dict out;
+    out["theta"] = to_numpy(std::move(resolved.theta));
+    out["period_jumps"] = indices_to_numpy(resolved.period_jumps).attr("reshape")(-1);
+    out["singular_vertices"] = int64_vector(resolved.singularities.vertices);
+    out["singular_indices"] = int64_vector(resolved.singularities.indices);
+    return out;
+  }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("jumps"), py::arg("held"));
+
   m.def("singularities", [](const py::object& V, const py::object& F, const py::object& theta) {
     const MeshArguments mesh(V, F);
     const Eigen::VectorXd angles = as_angles(theta);

@@ -468,6 +468,41 @@ FieldEdges field_edges(const VertexRef& V, const FaceRef& F, const Eigen::Vector
   return out;
 }
 
+ResolvedAngles resolve_angles(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta,
+                              const std::vector<int>& jumps, const std::vector<char>& held) {
+  const FieldMesh mesh(V, F, "resolve_angles");
+  detail::check_angles(theta, F.rows(), "resolve_angles");
+  const Eigen::Index n_edges = mesh.edge_faces.rows();
+  if (static_cast<Eigen::Index>(jumps.size()) != n_edges) {
+    throw InputError("resolve_angles: " + std::to_string(jumps.size()) + " jumps for " + std::to_string(n_edges) + " edges");
+  }
+  if (static_cast<Eigen::Index>(held.size()) != F.rows()) {
+    throw InputError("resolve_angles: held has " + std::to_string(held.size()) + " entries for " +
+                     std::to_string(F.rows()) + " faces");
+  }
+  const std::vector<double> w = edge_weights(mesh);
+  double total = 0;
+  Eigen::Index interior = 0;
+  for (Eigen::Index e = 0; e < n_edges; ++e) {
+    if (mesh.edge_faces(e, 1) >= 0) total += w[e], ++interior;
+  }
+  Alignment pull;
+  pull.mu.assign(F.rows(), interior > 0 ? 1e-9 * total / static_cast<double>(interior) : 1e-9);
+  pull.angle.assign(theta.data(), theta.data() + theta.size());
+  ResolvedAngles out;
+  out.theta = solve_angles(mesh, w, pull, held, {JumpCandidate{jumps, theta}}).front();
+  for (Eigen::Index f = 0; f < out.theta.size(); ++f) {
+    out.theta[f] -= detail::kQuarter * std::floor(out.theta[f] / detail::kQuarter);
+    if (!(out.theta[f] < detail::kQuarter)) out.theta[f] = 0;  // a tiny negative angle rounded up to π/2
+  }
+  out.period_jumps = detail::period_jumps(mesh, out.theta);
+  const auto index = detail::vertex_indices(mesh, F, out.theta);
+  for (std::size_t v = 0; v < index.size(); ++v) {
+    if (index[v] != 0) out.singularities.vertices.push_back(static_cast<int>(v)), out.singularities.indices.push_back(index[v]);
+  }
+  return out;
+}
+
 Eigen::VectorXd field_angles(const VertexRef& V, const FaceRef& F, const VertexRef& directions) {
   const FieldMesh mesh(V, F, "field_angles");
   if (directions.rows() != F.rows()) {

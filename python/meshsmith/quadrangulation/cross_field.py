@@ -13,7 +13,7 @@ from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from .._core import InputError
-from ..repair.unreferenced import on_referenced_vertices
+from ..repair.unreferenced import ReferencedMesh, on_referenced_vertices
 
 __all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "singularities", "FieldLike"]
 
@@ -197,30 +197,32 @@ def merge_singularities(V: ArrayLike, F: ArrayLike, field: CrossField, distance:
         raise InputError(f"merge_singularities: distance must be a finite number > 0, got {distance}")
     passes = _arguments.integer(passes, "passes", 1, 100)
     fixed = None if fixed_faces is None else _arguments.index_array(fixed_faces, "fixed_faces")
+    mesh = on_referenced_vertices(V, F)
+    computed = None
     for _ in range(passes):
-        merged = _merge_pass(V, F, field, distance, fixed)
+        merged, computed = _merge_pass(mesh, field, distance, fixed, computed)
         if merged is field:
             break
         field = merged
     return field
 
 
-def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
-                fixed_faces: np.ndarray | None) -> CrossField:
-    """One pass of :func:`merge_singularities` (the field itself when nothing moves)."""
+def _merge_pass(mesh: ReferencedMesh, field: CrossField, distance: float, fixed_faces: np.ndarray | None,
+                computed: dict[str, Any] | None) -> tuple[CrossField, dict[str, Any]]:
+    """One pass of :func:`merge_singularities` on the referenced mesh: the field (itself when
+    nothing moves) and its field_edges (`computed`: the field's, from the pass before, or None)."""
     import scipy.sparse
     import scipy.sparse.csgraph
-    import scipy.sparse.linalg
 
     dijkstra: Any = scipy.sparse.csgraph.dijkstra  # (scipy-stubs' overloads miss limit= with indices=)
 
-    mesh = on_referenced_vertices(V, F)
     P, T = np.asarray(mesh.V, dtype=np.float64), np.asarray(mesh.F, dtype=np.int64)
     if len(field.theta) != len(T):
         raise InputError(f"merge_singularities: the field has {len(field.theta)} faces but the mesh has {len(T)}")
     n, m = len(P), len(T)
     theta = np.asarray(field.theta, dtype=np.float64)
-    computed = _core.field_edges(P, T, theta)  # (the field's own arrays are on the input's numbering)
+    if computed is None:  # (the field's own arrays are on the input's numbering)
+        computed = _core.field_edges(P, T, theta)
     edges = np.asarray(computed["edges"], dtype=np.int64)
     edge_faces = np.asarray(computed["edge_faces"], dtype=np.int64)
     connection = np.asarray(computed["connection"], dtype=np.float64)
@@ -228,14 +230,17 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
     # the unreduced jumps (field.period_jumps are mod 4: the angle energy needs the whole turns)
     g = np.where(interior, edge_faces[:, 1], edge_faces[:, 0])
     jumps = np.round((theta[g] - theta[edge_faces[:, 0]] - connection) / (np.pi / 2)).astype(np.int64)
-    vertices, indices = _core.singularities(P, T, theta)
+    if "singular_vertices" in computed:  # from the pass before
+        vertices, indices = computed["singular_vertices"], computed["singular_indices"]
+    else:
+        vertices, indices = _core.singularities(P, T, theta)
     index = np.zeros(n, dtype=np.int64)
     index[np.asarray(vertices, dtype=np.int64)] = indices
     boundary_vertex = np.zeros(n, dtype=bool)
     boundary_vertex[edges[~interior].ravel()] = True
     candidates = np.array([v for v in vertices if not boundary_vertex[v]], dtype=np.int64)
     if len(candidates) < 2:
-        return field
+        return field, computed
     length = np.linalg.norm(P[edges[:, 1]] - P[edges[:, 0]], axis=1)
     e_in = np.nonzero(interior)[0]
     graph = scipy.sparse.coo_matrix((length[e_in], (edges[e_in, 0], edges[e_in, 1])), shape=(n, n)).tocsr()
@@ -281,7 +286,7 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
             if reach.any():
                 move(a, int(np.argmax(np.where(reach, from_b, -np.inf))), row)
     if not moved:
-        return field
+        return field, computed
     # Re-solve the angles near the moved singularities with the jumps fixed.
     near = dijkstra(graph, directed=False, indices=np.unique(moved), limit=2 * distance,
                                          min_only=True)
@@ -292,36 +297,9 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
         free[fixed_faces] = False
     if field.constrained_faces:  # the boundary is held when the field follows it
         free[edge_faces[~interior, 0]] = False
-    f0, f1 = edge_faces[e_in, 0], edge_faces[e_in, 1]
-    a0 = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
-    w = length[e_in] ** 2 / (a0[f0] + a0[f1])
-    target = connection[e_in] + jumps[e_in] * (np.pi / 2)  # θ_f1 − θ_f0 ≈ target
-    number = np.full(m, -1, dtype=np.int64)
-    number[free] = np.arange(free.sum())
-    k = int(free.sum())
-    rows, cols, vals = [], [], []
-    rhs = np.zeros(k)
-    diagonal = np.full(k, 1e-9 * w.mean())
-    for fa, fb, sign in ((f0, f1, -1.0), (f1, f0, 1.0)):
-        # the term w (θ_f1 − θ_f0 − target)² differentiated by θ_fa
-        a_free = number[fa] >= 0
-        np.add.at(diagonal, number[fa[a_free]], w[a_free])
-        both = a_free & (number[fb] >= 0)
-        rows.append(number[fa[both]])
-        cols.append(number[fb[both]])
-        vals.append(-w[both])
-        held = a_free & (number[fb] < 0)
-        np.add.at(rhs, number[fa[held]], w[held] * theta[fb[held]])
-        np.add.at(rhs, number[fa[a_free]], sign * w[a_free] * target[a_free])
-    rows.append(np.arange(k))
-    cols.append(np.arange(k))
-    vals.append(diagonal)
-    rhs += 1e-9 * w.mean() * theta[free]
-    A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(k, k))
-    solved = theta.copy()
-    solved[free] = scipy.sparse.linalg.spsolve(A, rhs)
-    solved -= (np.pi / 2) * np.floor(solved / (np.pi / 2))
-    edges_out = _core.field_edges(P, T, solved)
+    resolved = _core.resolve_angles(P, T, theta, jumps, ~free)
+    solved = np.asarray(resolved["theta"], dtype=np.float64)  # in [0, π/2)
+    edges_out = dict(computed, **resolved)  # the same edges, the solved field's jumps and singularities
     p0, p1, p2 = P[T[:, 0]], P[T[:, 1]], P[T[:, 2]]
     e1 = (p1 - p0) / np.linalg.norm(p1 - p0, axis=1, keepdims=True)
     normal = np.cross(p1 - p0, p2 - p0)
@@ -329,4 +307,4 @@ def _merge_pass(V: ArrayLike, F: ArrayLike, field: CrossField, distance: float,
     directions = np.cos(solved)[:, None] * e1 + np.sin(solved)[:, None] * np.cross(normal, e1)
     return CrossField(theta=solved, directions=directions, edges=mesh.vertex_map[edges] if mesh.removed else edges,
                       edge_faces=edge_faces, connection=connection, period_jumps=np.asarray(edges_out["period_jumps"], dtype=np.int64),
-                      constrained_faces=field.constrained_faces)
+                      constrained_faces=field.constrained_faces), edges_out

@@ -133,4 +133,19 @@ VertexMatrix field_directions(const VertexRef& V, const FaceRef& F, const Eigen:
 /// \throw InputError as field_edges.
 Singularities singularities(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta);
 
+/// The angles minimizing Σ_e w_e (θ_g − θ_f − κ_e − π/2·p_e)² (w_e as in cross_field) with the
+/// period jumps p given per edge (#E, field_edges' order, unreduced) and the `held` faces (#F,
+/// nonzero: held) kept at theta; a pull of 10⁻⁹ · mean(w) towards theta makes a free region
+/// without a held face unique. One CHOLMOD factorization (merge_singularities' re-solve).
+/// Returns the angles reduced to [0, π/2), with their period jumps and singularities (one mesh
+/// set-up for the three).
+/// \throw InputError as field_edges, for jumps or held of the wrong size; SolverError if CHOLMOD fails.
+struct ResolvedAngles {
+  Eigen::VectorXd theta;         ///< #F in [0, π/2)
+  Eigen::VectorXi period_jumps;  ///< #E, as FieldEdges::period_jumps
+  Singularities singularities;
+};
+ResolvedAngles resolve_angles(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta,
+                              const std::vector<int>& jumps, const std::vector<char>& held);
+
 }  // namespace meshsmith::quadrangulation
