@@ -203,6 +203,67 @@ def test_merge_cancels_close_pairs_and_keeps_poincare_hopf(data_dir):
         merge_singularities(V, F, field.theta, 1.0)
 
 
+def test_resolve_angles_agrees_with_scipy_on_the_same_system(data_dir):
+    # merge_singularities' re-solve (C++): with the jumps fixed, the free angles minimize
+    # Σ_e w_e (θ_g − θ_f − κ_e − p_e·π/2)² + 1e-9·mean(w)·Σ_f (θ_f − θ⁰_f)², the held ones kept:
+    # the same angles (mod π/2) as scipy's solve of that system assembled here.
+    from meshsmith import _core
+
+    V, F = io.read_mesh(data_dir / "kitten.off")
+    field = cross_field(V, F)
+    edges = _core.quadrangulation.field_edges(V, F, field.theta)
+    ef, kappa = np.asarray(edges["edge_faces"]), np.asarray(edges["connection"])
+    interior = ef[:, 1] >= 0
+    g = np.where(interior, ef[:, 1], ef[:, 0])
+    jumps = np.round((field.theta[g] - field.theta[ef[:, 0]] - kappa) / QUARTER).astype(np.int64)
+    jumps[np.flatnonzero(interior)[::7]] += 1  # some jumps changed, as a merge does
+    held = np.random.default_rng(0).random(len(F)) < 0.5
+    out = _core.quadrangulation.resolve_angles(V, F, field.theta, jumps, held)
+    theta = np.asarray(out["theta"])
+    assert ((theta >= 0) & (theta < QUARTER)).all()
+    assert np.abs(residual(theta[held] - field.theta[held])).max() < 1e-12
+    # the same system assembled here and solved by scipy (the least-squares normal equations)
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    i, j = ef[interior, 0], ef[interior, 1]
+    target = kappa[interior] + QUARTER * jumps[interior]
+    ends = np.asarray(edges["edges"])[interior]
+    area = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
+    w = ((V[ends[:, 1]] - V[ends[:, 0]]) ** 2).sum(1) / (area[i] + area[j])
+    pull = 1e-9 * w.mean()
+    free = np.flatnonzero(~held)
+    number = np.full(len(F), -1)
+    number[free] = np.arange(len(free))
+    rows, cols, vals, rhs = [], [], [], np.zeros(len(free))
+    for a, b, sign in ((i, j, -1.0), (j, i, 1.0)):  # d/dθ_a of w (θ_j − θ_i − target)²
+        mine = number[a] >= 0
+        rows += [number[a[mine]]]
+        cols += [number[a[mine]]]
+        vals += [w[mine]]
+        other = mine & (number[b] >= 0)
+        rows += [number[a[other]]]
+        cols += [number[b[other]]]
+        vals += [-w[other]]
+        fixed = mine & (number[b] < 0)
+        np.add.at(rhs, number[a[fixed]], w[fixed] * field.theta[b[fixed]])
+        np.add.at(rhs, number[a[mine]], sign * w[mine] * target[mine])
+    rows += [np.arange(len(free))]
+    cols += [np.arange(len(free))]
+    vals += [np.full(len(free), pull)]
+    rhs += pull * field.theta[free]
+    A = scipy.sparse.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))))
+    reference = field.theta.copy()
+    reference[free] = scipy.sparse.linalg.spsolve(A, rhs)
+    assert np.abs(residual(theta - reference)).max() < 1e-9
+    assert len(out["singular_vertices"]) == len(out["singular_indices"]) > 0
+    assert out["singular_indices"].sum() == 4 * euler_characteristic(F)
+    with pytest.raises(meshsmith.InputError, match="jumps"):
+        _core.quadrangulation.resolve_angles(V, F, field.theta, jumps[:-1], held)
+    with pytest.raises(meshsmith.InputError, match="held"):
+        _core.quadrangulation.resolve_angles(V, F, field.theta, jumps, held[:-1])
+
+
 def smoothness_energy(V, F, field):
     """Σ_e w_e r(θ_g − θ_f − κ_e)², w_e = |e|² / (A_f + A_g), computed here from the field's arrays."""
     interior = field.edge_faces[:, 1] >= 0
