@@ -39,6 +39,7 @@
 #include <numeric>
 #include <queue>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -56,37 +57,50 @@ struct Surface {
 /// f[a] above f[b], ties broken by index (simulation of simplicity).
 inline bool above(const Eigen::VectorXd& f, int a, int b) { return f[a] > f[b] || (f[a] == f[b] && a > b); }
 
-/// Counter-clockwise one-rings of a closed oriented manifold, in CSR form.
+/// Counter-clockwise one-rings of a closed oriented manifold: vertex v's ring is
+/// ring[start[v] .. start[v] + count[v]). A ring changed by edge splits is appended anew (set).
 struct Rings {
-  std::vector<int> offset, ring;
-  int size(int v) const { return offset[v + 1] - offset[v]; }
-  const int* begin(int v) const { return ring.data() + offset[v]; }
-};
-
-Rings one_rings(const FaceMatrix& F, int n) {
-  Rings rings;
-  rings.offset.assign(n + 1, 0);
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++rings.offset[F(f, k) + 1];
-  std::partial_sum(rings.offset.begin(), rings.offset.end(), rings.offset.begin());
-  // At corner v of face (v, b, c), the ring goes from b to c (counter-clockwise around v).
-  std::vector<std::pair<int, int>> steps(rings.offset[n]);
-  std::vector<int> fill(rings.offset.begin(), rings.offset.end() - 1);
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) steps[fill[F(f, k)]++] = {F(f, (k + 1) % 3), F(f, (k + 2) % 3)};
-  rings.ring.resize(steps.size());
-  for (int v = 0; v < n; ++v) {
-    const int first = rings.offset[v], count = rings.size(v);
-    int current = steps[first].first;
-    for (int k = 0; k < count; ++k) {
-      rings.ring[first + k] = current;
+  std::vector<int> start, count, ring;
+  int size(int v) const { return count[v]; }
+  const int* begin(int v) const { return ring.data() + start[v]; }
+  /// Vertex v's ring from its corner steps (b, c) (one per face (v, b, c)), chained
+  /// counter-clockwise and appended; v may be the next new vertex. Throws InputError unless the
+  /// steps form one closed fan.
+  void set(int v, const std::vector<std::pair<int, int>>& steps) {
+    if (v == static_cast<int>(start.size())) start.push_back(0), count.push_back(0);
+    start[v] = static_cast<int>(ring.size());
+    count[v] = static_cast<int>(steps.size());
+    int current = steps.empty() ? -1 : steps.front().first;
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      ring.push_back(current);
       int next = -1;
-      for (int s = first; s < first + count; ++s)
-        if (steps[s].first == current) next = steps[s].second;
-      if (next < 0 || (k + 1 < count && next == rings.ring[first]))
+      for (const auto& [from, to] : steps)
+        if (from == current) next = to;
+      if (next < 0 || (k + 1 < steps.size() && next == ring[start[v]]))
         throw InputError("vertex " + std::to_string(v) + " is not a closed manifold vertex (its faces do not form one fan)");
       current = next;
     }
+  }
+};
+
+Rings one_rings(const FaceMatrix& F, int n) {
+  std::vector<int> offset(n + 1, 0);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++offset[F(f, k) + 1];
+  std::partial_sum(offset.begin(), offset.end(), offset.begin());
+  // At corner v of face (v, b, c), the ring goes from b to c (counter-clockwise around v).
+  std::vector<std::pair<int, int>> steps(offset[n]);
+  std::vector<int> fill(offset.begin(), offset.end() - 1);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) steps[fill[F(f, k)]++] = {F(f, (k + 1) % 3), F(f, (k + 2) % 3)};
+  Rings rings;
+  rings.start.resize(n);
+  rings.count.resize(n);
+  rings.ring.reserve(steps.size());
+  std::vector<std::pair<int, int>> around;
+  for (int v = 0; v < n; ++v) {
+    around.assign(steps.begin() + offset[v], steps.begin() + offset[v + 1]);
+    rings.set(v, around);
   }
   return rings;
 }
@@ -178,6 +192,14 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
   stuck = false;
 
   std::vector<int> owner(n, -1), reserved(n, -1);
+  // A route towards a given extremum is given up (and another way tried) once it would be longer
+  // than kDetourFactor times the straight distance plus kDetourSlack mean edge lengths: such a
+  // line would wander across the surface, and proving that no route exists would search it all.
+  constexpr double kDetourFactor = 4.0, kDetourSlack = 10.0;
+  double mean_edge = 0.0;
+  for (Eigen::Index face = 0; face < S.F.rows(); ++face)
+    for (int k = 0; k < 3; ++k) mean_edge += (S.V.row(S.F(face, k)) - S.V.row(S.F(face, (k + 1) % 3))).norm();
+  mean_edge /= std::max<double>(1.0, 3.0 * static_cast<double>(S.F.rows()));
   // The admissible step from x of line `id` with the highest slope towards its extremum; an
   // extremum is preferred (it ends the line); -1 when there is none.
   const auto step = [&](int x, const int* candidates, int count, bool ascending, int id) {
@@ -205,18 +227,23 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
   // one the steepest blocking line ends at (or any of the right kind); the path after x, or empty.
   std::vector<double> distance(n, std::numeric_limits<double>::infinity());
   std::vector<int> from(n, -1), touched;
+  // A* towards `target` when there is one: the straight-line distance to it never overestimates.
   std::function<std::vector<int>(int, bool, int, int, bool)> route_to = [&](int x, bool ascending, int id, int target,
                                                                             bool keep_reserved) {
     const CriticalType target_type = ascending ? CriticalType::maximum : CriticalType::minimum;
-    using Item = std::pair<double, int>;
+    const auto to_go = [&](int v) { return target < 0 ? 0.0 : (S.V.row(target) - S.V.row(v)).norm(); };
+    using Item = std::tuple<double, double, int>;  // (distance + to_go, distance, vertex)
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
     distance[x] = 0.0;
     touched.assign(1, x);
-    heap.push({0.0, x});
+    heap.push({to_go(x), 0.0, x});
+    const double limit = target < 0 ? std::numeric_limits<double>::infinity()
+                                    : kDetourFactor * to_go(x) + kDetourSlack * mean_edge;
     int reached = -1;
     while (!heap.empty()) {
-      const auto [d, v] = heap.top();
+      const auto [key, d, v] = heap.top();
       heap.pop();
+      if (key > limit) break;
       if (d > distance[v]) continue;
       if (v != x && is(v, target_type)) {
         reached = v;
@@ -231,7 +258,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
           if (distance[w] == std::numeric_limits<double>::infinity()) touched.push_back(w);
           distance[w] = dw;
           from[w] = v;
-          heap.push({dw, w});
+          heap.push({dw + to_go(w), dw, w});
         }
       }
     }
@@ -268,107 +295,135 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
   // is made real by splitting its edges in order (each then joins its predecessor); the vertices
   // after x, or empty.
   std::vector<std::vector<int>> vertex_faces;
+  // The search's nodes: vertices, and n + side for the midpoint of an edge, named by the lower of
+  // its two face sides (side 3·face + k is the edge from corner k to corner k + 1). Distances and
+  // predecessors per node, reset through `gap_touched` after each search.
+  std::vector<double> gap_distance;
+  std::vector<int> gap_from, gap_touched;
+  const auto twin_side = [&](int side) {
+    const int face = side / 3, a = S.F(face, side % 3), b = S.F(face, (side % 3 + 1) % 3);
+    for (const int g : vertex_faces[b]) {
+      if (g == face) continue;
+      for (int k = 0; k < 3; ++k)
+        if (S.F(g, k) == b && S.F(g, (k + 1) % 3) == a) return 3 * g + k;
+    }
+    return side;  // not reached on a closed manifold
+  };
   const auto route_through_gaps = [&](const std::vector<int>& current, bool ascending, int target) -> std::vector<int> {
     if (!split) return {};
     if (vertex_faces.empty()) vertex_faces = faces_of_vertices(S.F, n);
     const int x = current.back();
     const CriticalType target_type = ascending ? CriticalType::maximum : CriticalType::minimum;
-    std::unordered_map<EdgeKey, char> line_edge;
+    std::vector<EdgeKey> line_edges;
     const auto add_line = [&](const std::vector<int>& line) {
-      for (std::size_t k = 0; k + 1 < line.size(); ++k) line_edge[edge_key(line[k], line[k + 1])] = 1;
+      for (std::size_t k = 0; k + 1 < line.size(); ++k) line_edges.push_back(edge_key(line[k], line[k + 1]));
     };
     for (const auto& line : C.lines) add_line(line);
     add_line(current);
+    std::sort(line_edges.begin(), line_edges.end());
     const auto admissible = [&](int v, int wanted) {
       if (is(v, target_type)) return wanted < 0 || v == wanted;
       return C.vertex_type[v] == static_cast<int>(CriticalType::regular) && owner[v] < 0 && reserved[v] < 0;
     };
     const auto splittable = [&](int a, int b) {
-      return !line_edge.count(edge_key(a, b)) && !is(a, CriticalType::saddle) && !is(b, CriticalType::saddle) &&
-             !(admissible(a, target) && admissible(b, target)) && a != x && b != x;
+      return !std::binary_search(line_edges.begin(), line_edges.end(), edge_key(a, b)) && !is(a, CriticalType::saddle) &&
+             !is(b, CriticalType::saddle) && !(admissible(a, target) && admissible(b, target)) && a != x && b != x;
+    };
+    const auto side_ends = [&](int side) {
+      return std::pair<int, int>(S.F(side / 3, side % 3), S.F(side / 3, (side % 3 + 1) % 3));
+    };
+    const auto position = [&](int node) -> Eigen::RowVector3d {
+      if (node < n) return S.V.row(node);
+      const auto [a, b] = side_ends(node - n);
+      return 0.5 * (S.V.row(a) + S.V.row(b));
+    };
+    const std::size_t nodes = static_cast<std::size_t>(n) + 3 * static_cast<std::size_t>(S.F.rows());
+    if (gap_distance.size() < nodes) {
+      gap_distance.resize(nodes, std::numeric_limits<double>::infinity());
+      gap_from.resize(nodes, -1);
+    }
+    const auto reset = [&] {
+      for (const int node : gap_touched) gap_distance[node] = std::numeric_limits<double>::infinity(), gap_from[node] = -1;
+      gap_touched.clear();
     };
     for (int attempt = 0; attempt < 2; ++attempt) {
       const int wanted = attempt == 0 ? target : -1;
       if (attempt == 1 && target < 0) break;
-      // Nodes: vertices, then midpoints (their edges in `ends`).
-      std::unordered_map<EdgeKey, int> midpoint;
-      std::vector<std::pair<int, int>> ends;
-      std::unordered_map<int, double> dist;
-      std::unordered_map<int, int> prev;
-      const auto position = [&](int node) -> Eigen::RowVector3d {
-        if (node < n) return S.V.row(node);
-        const auto [a, b] = ends[node - n];
-        return 0.5 * (S.V.row(a) + S.V.row(b));
-      };
-      const auto node_of_edge = [&](int a, int b) {
-        const auto [it, inserted] = midpoint.emplace(edge_key(a, b), n + static_cast<int>(ends.size()));
-        if (inserted) ends.emplace_back(std::min(a, b), std::max(a, b));
-        return it->second;
-      };
-      using Item = std::pair<double, int>;
+      // A* towards `wanted` when there is one (as route_to).
+      const auto to_go = [&](int v) { return wanted < 0 ? 0.0 : (S.V.row(wanted) - position(v)).norm(); };
+      using Item = std::tuple<double, double, int>;  // (distance + to_go, distance, node)
       std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-      dist[x] = 0.0;
-      heap.push({0.0, x});
+      double d = 0.0, key = 0.0;
+      int node = x;
+      const auto relax_to = [&](int next, double extra) {
+        const double dn = d + (position(next) - position(node)).norm() + extra;
+        if (dn < gap_distance[next]) {
+          if (gap_distance[next] == std::numeric_limits<double>::infinity()) gap_touched.push_back(next);
+          gap_distance[next] = dn;
+          gap_from[next] = node;
+          heap.push({dn + to_go(next), dn, next});
+        }
+      };
+      // The midpoint of side (face, k)'s edge (w, c), 0.25 of its length added (a split costs).
+      const auto relax_to_midpoint = [&](int face, int k, int w, int c) {
+        if (!splittable(w, c)) return;
+        const int side = 3 * face + k;
+        relax_to(n + std::min(side, twin_side(side)), 0.25 * (S.V.row(w) - S.V.row(c)).norm());
+      };
+      gap_distance[x] = 0.0;
+      gap_touched.push_back(x);
+      heap.push({to_go(x), 0.0, x});
+      const double limit = wanted < 0 ? std::numeric_limits<double>::infinity()
+                                      : kDetourFactor * to_go(x) + kDetourSlack * mean_edge;
       int reached = -1;
-      std::vector<int> around;
-      while (!heap.empty() && dist.size() < 400000) {
-        const auto [d, node] = heap.top();
+      while (!heap.empty() && gap_touched.size() < 400000) {
+        std::tie(key, d, node) = heap.top();
         heap.pop();
-        if (d > dist[node]) continue;
+        if (key > limit) break;
+        if (d > gap_distance[node]) continue;
         if (node < n && node != x && is(node, target_type)) {
           reached = node;
           break;
         }
-        around.clear();
-        const auto faces_with = [&](int a, int b, std::vector<int>& out) {
-          out.clear();
-          for (const int face : vertex_faces[a])
-            for (int k = 0; k < 3; ++k)
-              if (S.F(face, k) == b) out.push_back(face);
-        };
-        std::vector<int> faces;
         if (node < n) {
-          faces = vertex_faces[node];
-        } else {
-          faces_with(ends[node - n].first, ends[node - n].second, faces);
-        }
-        const auto relax_to = [&](int next, double extra) {
-          const double dn = d + (position(next) - position(node)).norm() + extra;
-          const auto it = dist.find(next);
-          if (it == dist.end() || dn < it->second) {
-            dist[next] = dn;
-            prev[next] = node;
-            heap.push({dn, next});
+          // Neighbours: b and c of each face (node, b, c) and the midpoint of its edge (b, c).
+          for (const int face : vertex_faces[node]) {
+            int k = 0;
+            while (S.F(face, k) != node) ++k;
+            const int b = S.F(face, (k + 1) % 3), c = S.F(face, (k + 2) % 3);
+            for (const int w : {b, c})
+              if (admissible(w, wanted)) relax_to(w, 0.0);
+            relax_to_midpoint(face, (k + 1) % 3, b, c);
           }
-        };
-        for (const int face : faces) {
-          for (int k = 0; k < 3; ++k) {
+        } else {
+          // Neighbours of edge (a, b)'s midpoint: in each of its faces (a, b, c), c and the
+          // midpoints of the edges (b, c) and (c, a).
+          const int side = node - n;
+          for (const int s : {side, twin_side(side)}) {
+            const int face = s / 3, k = s % 3;
             const int a = S.F(face, k), b = S.F(face, (k + 1) % 3), c = S.F(face, (k + 2) % 3);
-            if (node < n) {
-              if (a != node) continue;
-              // neighbours b, c and the midpoint of the opposite edge (b, c)
-              for (const int w : {b, c})
-                if (admissible(w, wanted)) relax_to(w, 0.0);
-              if (splittable(b, c)) relax_to(node_of_edge(b, c), 0.25 * (S.V.row(b) - S.V.row(c)).norm());
-            } else {
-              const auto [p, q] = ends[node - n];
-              if (!((a == p && b == q) || (a == q && b == p))) continue;
-              if (admissible(c, wanted)) relax_to(c, 0.0);
-              for (const int w : {a, b})
-                if (splittable(w, c)) relax_to(node_of_edge(w, c), 0.25 * (S.V.row(w) - S.V.row(c)).norm());
-            }
+            if (admissible(c, wanted)) relax_to(c, 0.0);
+            relax_to_midpoint(face, (k + 1) % 3, b, c);
+            relax_to_midpoint(face, (k + 2) % 3, a, c);
           }
         }
       }
-      if (reached < 0) continue;
-      std::vector<int> nodes;
-      for (int v = reached; v != x; v = prev.at(v)) nodes.push_back(v);
-      std::reverse(nodes.begin(), nodes.end());
+      if (reached < 0) {
+        reset();
+        continue;
+      }
+      std::vector<int> route_nodes;
+      for (int v = reached; v != x; v = gap_from[v]) route_nodes.push_back(v);
+      std::reverse(route_nodes.begin(), route_nodes.end());
+      reset();
+      // The edges to split, read before any split renumbers the faces' corners.
+      std::vector<std::pair<int, int>> ends(route_nodes.size(), {-1, -1});
+      for (std::size_t k = 0; k < route_nodes.size(); ++k)
+        if (route_nodes[k] >= n) ends[k] = side_ends(route_nodes[k] - n);
       // Make it real; every step must then be a mesh edge.
       std::vector<int> path;
-      for (const int node : nodes) {
-        path.push_back(node < n ? node : split_edge(S, vertex_faces, ends[node - n].first, ends[node - n].second));
-      }
+      for (std::size_t k = 0; k < route_nodes.size(); ++k)
+        path.push_back(route_nodes[k] < n ? route_nodes[k] : split_edge(S, vertex_faces, ends[k].first, ends[k].second));
       const auto adjacent = [&](int a, int b) {
         for (const int face : vertex_faces[a])
           for (int k = 0; k < 3; ++k)
@@ -376,6 +431,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
         return false;
       };
       const int added = static_cast<int>(S.V.rows()) - n;
+      const int before = n;
       n = static_cast<int>(S.V.rows());
       owner.resize(n, -1);
       reserved.resize(n, -1);
@@ -385,7 +441,24 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
       C.saddle_multiplicity.conservativeResize(n);
       C.vertex_type.tail(added).setZero();
       C.saddle_multiplicity.tail(added).setZero();
-      rings = one_rings(S.F, n);
+      // The rings that changed: the new vertices' and their neighbours' (a split changes only
+      // the rings around its new vertex).
+      std::vector<int> changed;
+      for (int v = before; v < n; ++v)
+        for (const int face : vertex_faces[v])
+          for (int k = 0; k < 3; ++k) changed.push_back(S.F(face, k));
+      std::sort(changed.begin(), changed.end());
+      changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+      std::vector<std::pair<int, int>> steps;
+      for (const int v : changed) {
+        steps.clear();
+        for (const int face : vertex_faces[v]) {
+          int k = 0;
+          while (S.F(face, k) != v) ++k;
+          steps.emplace_back(S.F(face, (k + 1) % 3), S.F(face, (k + 2) % 3));
+        }
+        rings.set(v, steps);
+      }
       bool ok = adjacent(x, path.front());
       for (std::size_t k = 0; ok && k + 1 < path.size(); ++k) ok = adjacent(path[k], path[k + 1]);
       ++C.gap_routes;
