@@ -145,6 +145,23 @@ def test_fandisk_keeps_its_sharp_edges_as_quad_edges(data_dir):
     assert (distance < 0.05 * report.target_edge_length).mean() >= 0.9
 
 
+def test_relaxation_keeps_thin_tips(data_dir):
+    # The relaxation of poorly shaped quads moves vertices within the input's tangent plane: it
+    # used to move them the whole way to their neighbours' mean, which shrank pmp-bunny's ear tips
+    # (at 2,000 quads Hausdorff ÷ diagonal 0.037 as extracted, 0.098 relaxed; now 0.044), and
+    # every quad is still convex
+    from meshsmith import geometry
+    V, F = io.read_mesh(data_dir / "pmp-bunny.off")
+    plain = quadrangulate(V, F, target_faces=2000, relax=0, smooth=0)
+    relaxed = quadrangulate(V, F, target_faces=2000, smooth=0)
+    assert np.array_equal(plain.Q, relaxed.Q)
+    assert plain.report.min_scaled_jacobian <= 0 < relaxed.report.min_scaled_jacobian
+    diagonal = np.linalg.norm(V.max(0) - V.min(0))
+    before = geometry.hausdorff_distance(plain.V, triangles(plain.Q), V, F) / diagonal
+    after = geometry.hausdorff_distance(relaxed.V, triangles(relaxed.Q), V, F) / diagonal
+    assert after < 1.25 * before
+
+
 def test_smoothing_brings_angles_closer_to_right_angles(data_dir):
     # the same quads with and without the tangential smoothing: the mean |angle − 90°| drops
     # (kitten at 3,000 quads: 7.7° → 5.6°; 8.1° → 6.0° and 7.9° → 6.0° with its vertices moved by

@@ -136,8 +136,10 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     ``report.feature_edges`` is 0.
     relax: at most this many rounds of relaxing the quads whose scaled Jacobian is below 0.2
     (the non-convex ones MIQ's distortion leaves next to cones): their corners and one ring move
-    to the mean of their quad-edge neighbours and back onto the input surface (closest point);
-    the round with the largest minimum scaled Jacobian is kept. 0: the extracted mesh as it is.
+    towards the mean of their quad-edge neighbours within the input's tangent plane and back onto
+    the input surface (closest point), the whole way to the mean (which shrinks thin tips) only
+    where that leaves an inverted quad; the round with the largest minimum scaled Jacobian is
+    kept. 0: the extracted mesh as it is.
     smooth: at most this many rounds of tangential smoothing of every quad vertex (the mean of
     its quad-edge neighbours, moved within the tangent plane and back onto the input surface;
     boundary and crease vertices fixed, no quad's scaled Jacobian below the mesh's minimum),
@@ -219,13 +221,21 @@ RELAX_BELOW = 0.2
 
 def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: int) -> tuple[FloatArray, int]:
     """Moves the corners of the quads with scaled Jacobian < RELAX_BELOW, and their one ring,
-    to the mean of their quad-edge neighbours, then onto the surface (V, F); `rounds` times, the
-    region regrown each round. Returns the positions of the best round (largest minimum scaled
+    towards the mean of their quad-edge neighbours within the input's tangent plane there (the
+    move's component along the normal of the input face under the vertex removed, so thin tips
+    such as pmp-bunny's ears do not shrink), then onto the surface (V, F); `rounds` times, the
+    region regrown each round. Where that leaves an inverted quad (scaled Jacobian <= 0), up to
+    `rounds` more rounds move the vertices the whole way to the mean, from the best round so far
+    (this shrinks tips, but untangles folds the tangent moves cannot). Returns the positions of the best round (largest minimum scaled
     Jacobian) and how many vertices that moved; a round that makes a quad degenerate (two corners
     projected onto one point) ends the relaxation at the best earlier round."""
     from ..geometry.metrics import SurfaceDistance
 
     surface = SurfaceDistance(V, F)
+    P0, T0 = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    face_normal = np.cross(P0[T0[:, 1]] - P0[T0[:, 0]], P0[T0[:, 2]] - P0[T0[:, 0]])
+    face_normal /= np.maximum(np.linalg.norm(face_normal, axis=1, keepdims=True), 1e-300)
+    under = surface.closest_points(Vq).face
     edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
     # boundary vertices stay where they are
     all_edges = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
@@ -234,33 +244,40 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
     boundary[unique[counts == 1].ravel()] = True
     degree = np.bincount(edges.ravel(), minlength=len(Vq)).astype(np.float64)
     best, best_jacobian = Vq, float(quad_quality(Vq, Q).scaled_jacobian.min())
-    P = Vq.copy()
     moved = np.zeros(len(Vq), dtype=bool)
     best_moved = 0
-    for _ in range(rounds):
-        jacobian = quad_quality(P, Q).scaled_jacobian
-        region = np.zeros(len(P), dtype=bool)
-        region[Q[jacobian < RELAX_BELOW].ravel()] = True
-        if not region.any():
+    for tangential in (True, False):
+        if not tangential and best_jacobian > 0:
             break
-        grown = region.copy()
-        grown[edges[region[edges[:, 0]], 1]] = True
-        grown[edges[region[edges[:, 1]], 0]] = True
-        grown &= ~boundary
-        mean = np.zeros_like(P)
-        np.add.at(mean, edges[:, 0], P[edges[:, 1]])
-        np.add.at(mean, edges[:, 1], P[edges[:, 0]])
-        mean /= np.maximum(degree, 1)[:, None]
-        target = np.where(grown[:, None], mean, P)
-        P = P.copy()
-        P[grown] = surface.closest_points(target[grown]).point
-        moved |= grown
-        try:
-            now = float(quad_quality(P, Q).scaled_jacobian.min())
-        except InputError:  # two corners of a quad projected onto one surface point: keep the best round
-            break
-        if now > best_jacobian:
-            best, best_jacobian, best_moved = P, now, int(moved.sum())
+        P = best.copy()
+        for _ in range(rounds):
+            jacobian = quad_quality(P, Q).scaled_jacobian
+            region = np.zeros(len(P), dtype=bool)
+            region[Q[jacobian < RELAX_BELOW].ravel()] = True
+            if not region.any():
+                break
+            grown = region.copy()
+            grown[edges[region[edges[:, 0]], 1]] = True
+            grown[edges[region[edges[:, 1]], 0]] = True
+            grown &= ~boundary
+            mean = np.zeros_like(P)
+            np.add.at(mean, edges[:, 0], P[edges[:, 1]])
+            np.add.at(mean, edges[:, 1], P[edges[:, 0]])
+            mean /= np.maximum(degree, 1)[:, None]
+            move = mean[grown] - P[grown]
+            if tangential:
+                normal = face_normal[under[grown]]
+                move -= np.einsum("ij,ij->i", move, normal)[:, None] * normal
+            P, under = P.copy(), under.copy()
+            closest = surface.closest_points(P[grown] + move)
+            P[grown], under[grown] = closest.point, closest.face
+            moved |= grown
+            try:
+                now = float(quad_quality(P, Q).scaled_jacobian.min())
+            except InputError:  # two corners of a quad projected onto one surface point: keep the best round
+                break
+            if now > best_jacobian:
+                best, best_jacobian, best_moved = P, now, int(moved.sum())
     return best, best_moved
 
 

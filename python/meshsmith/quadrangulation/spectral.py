@@ -187,8 +187,8 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     target_faces: about how many quads (None: quads of twice the mean edge length);
     target_patches: about how many cells (None: one per ~25 quads, in [8, 240]); eigenvector: its
     index (>= 1) instead, overriding target_patches. relax: at most this many rounds of moving
-    the corners of quads with scaled Jacobian below 0.2 (and their neighbours) to the mean of their
-    quad-edge neighbours and back onto the surface, the best round kept (as
+    the corners of quads with scaled Jacobian below 0.2 (and their neighbours) towards the mean of
+    their quad-edge neighbours and back onto the surface, the best round kept (as
     :func:`quadrangulate` does; 0: none; skipped when a round collapses a quad edge). progress: optional callback
     (fraction, stage) -> bool (False cancels).
 
