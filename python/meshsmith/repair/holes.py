@@ -235,11 +235,14 @@ def _orient_closed_outward(V: FloatArray, F: IndexArray, patches: tuple[HolePatc
     labels, count = components.face_labels, components.count
     patched = np.zeros(count, dtype=bool)
     patched[labels[np.concatenate([p.faces for p in patches])]] = True
-    open_ = np.zeros(count, dtype=bool)
-    open_[labels[boundary_sides(F)[:, 0]]] = True
     # Negative beyond round-off: a flat, two-sided piece (volume 0) keeps its orientation.
     volumes, areas = signed_volumes(V, F, labels, count, with_areas=True)
-    inside_out = patched & ~open_ & (volumes < -1e-9 * areas ** 1.5)
+    inside_out = patched & (volumes < -1e-9 * areas ** 1.5)
+    if not inside_out.any():
+        return F, 0
+    open_ = np.zeros(count, dtype=bool)           # only now: the boundary search is the costly part
+    open_[labels[boundary_sides(F)[:, 0]]] = True
+    inside_out &= ~open_
     if not inside_out.any():
         return F, 0
     F = F.copy()
