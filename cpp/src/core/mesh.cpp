@@ -26,13 +26,14 @@ TriMesh to_trimesh(const VertexRef& V, const FaceRef& F) {
   } silence;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
-    std::ostringstream message;
     if (a == b || b == c || a == c) {
+      std::ostringstream message;  // in the error branches only: one per face is slow
       message << "F[" << f << "] = (" << a << ", " << b << ", " << c << ") repeats a vertex";
       throw InputError(message.str());
     }
     const auto face = mesh.add_face(handles[a], handles[b], handles[c]);
     if (!face.is_valid()) {
+      std::ostringstream message;
       message << "F[" << f << "] = (" << a << ", " << b << ", " << c
               << ") makes the mesh non-manifold (an edge with more than two faces, a vertex whose"
                  " faces do not form one fan, or inconsistent orientation); run"

@@ -452,8 +452,8 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
   const auto incidence = topology::edge_incidence(F, V.rows());
   for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
     const int count = incidence.side_count(e);
-    std::ostringstream message;
     if (count > 2) {
+      std::ostringstream message;  // only here: constructing one per edge cost 4 ms on 25k edges
       message << "edge (" << incidence.edges(e, 0) << ", " << incidence.edges(e, 1) << ") has " << count
               << " faces: hole filling needs an edge-manifold mesh (run repair.clean first)";
       throw InputError(message.str());
@@ -462,6 +462,7 @@ FillHolesResult fill_holes(const VertexRef& V, const FaceRef& F, const FillHoles
       const int s = incidence.edge_sides[incidence.edge_offsets[e]];
       const int t = incidence.edge_sides[incidence.edge_offsets[e] + 1];
       if (F(s / 3, s % 3) == F(t / 3, t % 3)) {
+        std::ostringstream message;
         message << "faces " << s / 3 << " and " << t / 3 << " traverse edge (" << incidence.edges(e, 0) << ", "
                 << incidence.edges(e, 1) << ") in the same direction: hole filling needs a consistently"
                    " oriented mesh (run repair.clean or repair.orient_faces first)";
