@@ -196,10 +196,13 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
   // than kDetourFactor times the straight distance plus kDetourSlack mean edge lengths: such a
   // line would wander across the surface, and proving that no route exists would search it all.
   constexpr double kDetourFactor = 4.0, kDetourSlack = 10.0;
-  double mean_edge = 0.0;
+  double mean_edge = 0.0;  // of S before any gap route splits it
   for (Eigen::Index face = 0; face < S.F.rows(); ++face)
     for (int k = 0; k < 3; ++k) mean_edge += (S.V.row(S.F(face, k)) - S.V.row(S.F(face, (k + 1) % 3))).norm();
   mean_edge /= std::max<double>(1.0, 3.0 * static_cast<double>(S.F.rows()));
+  const auto detour_limit = [&](double straight) {
+    return kDetourFactor * straight + kDetourSlack * mean_edge;
+  };
   // The admissible step from x of line `id` with the highest slope towards its extremum; an
   // extremum is preferred (it ends the line); -1 when there is none.
   const auto step = [&](int x, const int* candidates, int count, bool ascending, int id) {
@@ -237,8 +240,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
     distance[x] = 0.0;
     touched.assign(1, x);
     heap.push({to_go(x), 0.0, x});
-    const double limit = target < 0 ? std::numeric_limits<double>::infinity()
-                                    : kDetourFactor * to_go(x) + kDetourSlack * mean_edge;
+    const double limit = target < 0 ? std::numeric_limits<double>::infinity() : detour_limit(to_go(x));
     int reached = -1;
     while (!heap.empty()) {
       const auto [key, d, v] = heap.top();
@@ -373,8 +375,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
       gap_distance[x] = 0.0;
       gap_touched.push_back(x);
       heap.push({to_go(x), 0.0, x});
-      const double limit = wanted < 0 ? std::numeric_limits<double>::infinity()
-                                      : kDetourFactor * to_go(x) + kDetourSlack * mean_edge;
+      const double limit = wanted < 0 ? std::numeric_limits<double>::infinity() : detour_limit(to_go(x));
       int reached = -1;
       while (!heap.empty() && gap_touched.size() < 400000) {
         std::tie(key, d, node) = heap.top();

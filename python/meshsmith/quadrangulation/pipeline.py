@@ -229,12 +229,11 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
     (this shrinks tips, but untangles folds the tangent moves cannot). Returns the positions of the best round (largest minimum scaled
     Jacobian) and how many vertices that moved; a round that makes a quad degenerate (two corners
     projected onto one point) ends the relaxation at the best earlier round."""
+    from ..geometry import face_normals
     from ..geometry.metrics import SurfaceDistance
 
     surface = SurfaceDistance(V, F)
-    P0, T0 = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
-    face_normal = np.cross(P0[T0[:, 1]] - P0[T0[:, 0]], P0[T0[:, 2]] - P0[T0[:, 0]])
-    face_normal /= np.maximum(np.linalg.norm(face_normal, axis=1, keepdims=True), 1e-300)
+    face_normal = face_normals(V, F)
     under = surface.closest_points(Vq).face
     edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
     # boundary vertices stay where they are
