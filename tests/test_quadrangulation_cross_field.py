@@ -363,3 +363,28 @@ def test_quadrangulate_passes_the_rounding_through():
     assert fractions == sorted(fractions) and fractions[-1] == pytest.approx(1.0)
     with pytest.raises(meshsmith.InputError, match="rounding"):
         quadrangulate(V, F, target_faces=300, rounding="exact")
+
+
+def test_shared_field_mesh_gives_the_results_of_separate_calls():
+    """Inside quadrangulate's shared_field_mesh scope, a call on the mesh of the call before reuses
+    its checked mesh and frames: the results equal those of calls outside the scope, a mesh with
+    the same faces but other positions (or the same size) is not mistaken for it, and bad input
+    still raises."""
+    from meshsmith._core import quadrangulation as core
+
+    V, F = datasets.icosphere(3)
+    moved = V * np.array([1.0, 0.6, 1.3])            # same faces and size, another ellipsoid
+    bent = V.copy()
+    bent[:, 2] += 0.2 * V[:, 0] ** 2
+    separate = [cross_field(P, F).theta for P in (V, moved, bent, V)]
+    with core.shared_field_mesh():
+        shared = [cross_field(P, F).theta for P in (V, moved, bent, V)]
+        field = cross_field(V, F)
+        assert np.array_equal(singularities(V, F, field).indices, singularities(V, F, separate[0]).indices)
+        bad = F.copy()
+        bad[0, 1] = bad[0, 0]                          # a degenerate face
+        with pytest.raises(meshsmith.InputError):
+            cross_field(V, bad)
+    for a, b in zip(separate, shared):
+        assert np.array_equal(a, b)
+    assert not np.allclose(separate[0], separate[1])   # the meshes do give different fields

@@ -6,6 +6,7 @@
 #include <meshsmith/quadrangulation/cut_graph.h>
 #include <meshsmith/quadrangulation/miq.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,24 @@ py::dict cut_dict(FieldCut cut) {
   return out;
 }
 
+/// `with shared_field_mesh():` holds a SharedFieldMesh for the block (quadrangulate's stages).
+struct SharedFieldMeshScope {
+  std::unique_ptr<SharedFieldMesh> scope;
+};
+
 }  // namespace
 
 void bind_quadrangulation(py::module_& m) {
+  py::class_<SharedFieldMeshScope>(m, "shared_field_mesh")
+      .def(py::init<>())
+      .def("__enter__", [](SharedFieldMeshScope& self) {
+        if (!self.scope) self.scope = std::make_unique<SharedFieldMesh>();
+        return &self;
+      }, py::return_value_policy::reference)
+      .def("__exit__", [](SharedFieldMeshScope& self, const py::args&) {
+        self.scope.reset();
+        return false;
+      });
   m.def("cross_field", [](const py::object& V, const py::object& F, const std::string& align, double sharp_angle,
                           const py::object& constraint_faces, const py::object& constraint_directions,
                           double curvature_weight, const std::string& rounding, const py::object& callback) {

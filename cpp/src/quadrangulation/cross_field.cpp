@@ -37,6 +37,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
+#include <mutex>
 #include <queue>
 #include <string>
 #include <tuple>
@@ -78,6 +80,38 @@ FieldMesh::FieldMesh(const VertexRef& input_V, const FaceRef& F, const char* fun
       connection[e] = wrap_angle(angle_in_face(edge_faces(e, 1), d) - angle_in_face(edge_faces(e, 0), d));
     }
   }
+}
+
+namespace {
+
+/// The state behind SharedFieldMesh: how many instances live, and the last mesh with its input.
+struct FieldMeshCache {
+  std::mutex mutex;
+  int scopes = 0;
+  VertexMatrix V;
+  FaceMatrix F;
+  std::shared_ptr<const FieldMesh> mesh;
+};
+
+FieldMeshCache& field_mesh_cache() {
+  static FieldMeshCache cache;
+  return cache;
+}
+
+}  // namespace
+
+std::shared_ptr<const FieldMesh> field_mesh(const VertexRef& V, const FaceRef& F, const char* function) {
+  FieldMeshCache& cache = field_mesh_cache();
+  {
+    const std::lock_guard<std::mutex> lock(cache.mutex);
+    if (cache.scopes == 0) return std::make_shared<const FieldMesh>(V, F, function);
+    if (cache.mesh && cache.V.rows() == V.rows() && cache.F.rows() == F.rows() && cache.V == V && cache.F == F)
+      return cache.mesh;
+  }
+  auto mesh = std::make_shared<const FieldMesh>(V, F, function);  // (outside the lock: it takes a while)
+  const std::lock_guard<std::mutex> lock(cache.mutex);
+  if (cache.scopes > 0) cache.V = V, cache.F = F, cache.mesh = mesh;
+  return mesh;
 }
 
 Eigen::VectorXi period_jumps(const FieldMesh& mesh, const Eigen::VectorXd& theta) {
@@ -457,8 +491,21 @@ Eigen::VectorXd round_jumps(const FieldMesh& mesh, FieldRounding rounding, const
 
 }  // namespace
 
+SharedFieldMesh::SharedFieldMesh() {
+  detail::FieldMeshCache& cache = detail::field_mesh_cache();
+  const std::lock_guard<std::mutex> lock(cache.mutex);
+  ++cache.scopes;
+}
+
+SharedFieldMesh::~SharedFieldMesh() {
+  detail::FieldMeshCache& cache = detail::field_mesh_cache();
+  const std::lock_guard<std::mutex> lock(cache.mutex);
+  if (--cache.scopes == 0) cache.mesh.reset(), cache.V.resize(0, 3), cache.F.resize(0, 3);
+}
+
 FieldEdges field_edges(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta) {
-  const FieldMesh mesh(V, F, "field_edges");
+  const auto shared_mesh = detail::field_mesh(V, F, "field_edges");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "field_edges");
   FieldEdges out;
   out.edges = mesh.checked.incidence.edges;
@@ -470,7 +517,8 @@ FieldEdges field_edges(const VertexRef& V, const FaceRef& F, const Eigen::Vector
 
 ResolvedAngles resolve_angles(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta,
                               const std::vector<int>& jumps, const std::vector<char>& held) {
-  const FieldMesh mesh(V, F, "resolve_angles");
+  const auto shared_mesh = detail::field_mesh(V, F, "resolve_angles");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "resolve_angles");
   const Eigen::Index n_edges = mesh.edge_faces.rows();
   if (static_cast<Eigen::Index>(jumps.size()) != n_edges) {
@@ -504,7 +552,8 @@ ResolvedAngles resolve_angles(const VertexRef& V, const FaceRef& F, const Eigen:
 }
 
 Eigen::VectorXd field_angles(const VertexRef& V, const FaceRef& F, const VertexRef& directions) {
-  const FieldMesh mesh(V, F, "field_angles");
+  const auto shared_mesh = detail::field_mesh(V, F, "field_angles");
+  const FieldMesh& mesh = *shared_mesh;
   if (directions.rows() != F.rows()) {
     throw InputError("field_angles: the field has " + std::to_string(directions.rows()) + " rows but the mesh has " +
                      std::to_string(F.rows()) + " faces");
@@ -524,7 +573,8 @@ Eigen::VectorXd field_angles(const VertexRef& V, const FaceRef& F, const VertexR
 }
 
 VertexMatrix field_directions(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta) {
-  const FieldMesh mesh(V, F, "field_directions");
+  const auto shared_mesh = detail::field_mesh(V, F, "field_directions");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "field_directions");
   VertexMatrix directions(F.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -534,7 +584,8 @@ VertexMatrix field_directions(const VertexRef& V, const FaceRef& F, const Eigen:
 }
 
 Singularities singularities(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta) {
-  const FieldMesh mesh(V, F, "singularities");
+  const auto shared_mesh = detail::field_mesh(V, F, "singularities");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "singularities");
   const auto index = detail::vertex_indices(mesh, F, theta);
   Singularities out;
@@ -545,7 +596,8 @@ Singularities singularities(const VertexRef& V, const FaceRef& F, const Eigen::V
 }
 
 CrossField cross_field(const VertexRef& V, const FaceRef& F, const CrossFieldOptions& options, const Progress& progress) {
-  const FieldMesh mesh(V, F, "cross_field");
+  const auto shared_mesh = detail::field_mesh(V, F, "cross_field");
+  const FieldMesh& mesh = *shared_mesh;
   const auto& incidence = mesh.checked.incidence;
   const Eigen::Index m = F.rows(), n_edges = incidence.n_edges();
   progress.report(0.0, "cross field");

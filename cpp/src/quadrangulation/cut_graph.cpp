@@ -17,7 +17,8 @@
 namespace meshsmith::quadrangulation {
 
 FieldCut cut_graph(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta) {
-  const detail::FieldMesh mesh(V, F, "cut_graph");
+  const auto shared_mesh = detail::field_mesh(V, F, "cut_graph");
+  const detail::FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "cut_graph");
   FieldCut out;
   const auto index = detail::vertex_indices(mesh, F, theta);

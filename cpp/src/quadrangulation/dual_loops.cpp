@@ -186,7 +186,8 @@ struct Regions {
 
 DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta,
                                 const DualLoopOptions& options, const Progress& progress) {
-  const FieldMesh mesh(V, F, "dual_loop_layout");
+  const auto shared_mesh = detail::field_mesh(V, F, "dual_loop_layout");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "dual_loop_layout");
   const auto& checked = mesh.checked;
   if (!checked.boundary_loops.empty()) {

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace meshsmith::quadrangulation::detail {
@@ -42,6 +43,10 @@ struct FieldMesh {
   double transport(int e, int from) const { return edge_faces(e, 0) == from ? connection[e] : -connection[e]; }
   int other_face(int e, int f) const { return edge_faces(e, 0) == f ? edge_faces(e, 1) : edge_faces(e, 0); }
 };
+
+/// The FieldMesh of (V, F): the one made by the call before when a SharedFieldMesh lives and
+/// V and F equal that call's, else a new one. \throw InputError as FieldMesh's constructor.
+std::shared_ptr<const FieldMesh> field_mesh(const VertexRef& V, const FaceRef& F, const char* function);
 
 /// The chapter's SPD solver: the parametrization chapter's supernodal CHOLMOD LLᵀ (AMD, one
 /// ordering, OpenMP and BLAS on the calling thread). CHOLMOD's default set-up (several orderings

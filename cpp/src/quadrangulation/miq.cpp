@@ -39,6 +39,7 @@
 
 #include "field_geometry.h"
 #include "seamless_map.h"
+#include "../core/supernodal_solve.h"
 
 #include <meshsmith/core/errors.h>
 
@@ -503,12 +504,15 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
   // Step 2: greedy rounding on the integer block of H⁻¹ (with `held` already fixed).
   if (N > 0) {
     Eigen::MatrixXd S(N, N);
+    // the core's supernodal substitution: its forward pass skips the supernodes a unit column
+    // has not reached (pmp-bunny at 3,000 quads: MIQ 1.39 -> 1.32 s, medians of 6, load 5)
+    const meshsmith::detail::SupernodalSolve substitution(*solver.factor());
     constexpr Eigen::Index kBlock = 32;
     for (Eigen::Index start = 0; start < N; start += kBlock) {
       const Eigen::Index width = std::min(kBlock, N - start);
       Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(n_free, width);
       for (Eigen::Index k = 0; k < width; ++k) unit(integer_free[start + k], k) = 1.0;
-      const Eigen::MatrixXd columns = solver.solve(unit);
+      const Eigen::MatrixXd columns = substitution.solve(unit);
       for (Eigen::Index k = 0; k < width; ++k)
         for (Eigen::Index r = 0; r < N; ++r) S(r, start + k) = columns(integer_free[r], k);
       progress.report(0.3 + 0.3 * static_cast<double>(start + width) / static_cast<double>(N), "miq: rounding");
@@ -595,8 +599,12 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
     vertex_neighbours[incidence.edges(e, 1)].push_back(incidence.edges(e, 0));
   }
   // `base` (its integers held) re-solved with the face weights `stiffened` on the free
-  // unknowns of the vertices within kRepairRadius quad edges (path length) of a stiffened face;
-  // the whole system when that is more than half of the unknowns.
+  // unknowns of the vertices within kRepairRadius quad edges (path length) of a stiffened face
+  // (on a small mesh that is most of them: the block, assembled from H_unit's entries, then
+  // costs less than re-assembling the whole system through Z).
+  Solver block_solver;
+  detail::configure_cholmod(block_solver);
+  Sparse block_pattern;  // the block last analyzed by block_solver
   auto local_resolve = [&](const Eigen::VectorXd& stiffened, const Eigen::VectorXd& base) {
     std::vector<int> changed;
     for (Eigen::Index f = 0; f < m; ++f)
@@ -628,39 +636,75 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
         }
       }
     }
-    weight = stiffened;
     Eigen::VectorXd candidate = base;
-    if (2 * static_cast<Eigen::Index>(columns.size()) > n_free) {
-      reduced_system(H, g);
-      solve_held(held, candidate);
-      return candidate;
+    // The block is assembled on the local columns only (through sparse products of the whole
+    // system it took 12 of a round's 30 ms on pmp-bunny at 3,000 quads): the unit-weight part is
+    // read off H_unit's columns, and the stiffened faces' added energy is assembled on their own
+    // corners (numbered locally) and mapped through those corners' rows of Z. Unknowns outside
+    // the block (held, or beyond the radius) keep base's values and move to the right-hand side.
+    const auto n_local = static_cast<Eigen::Index>(columns.size());
+    std::vector<Eigen::Triplet<double>> block_triplets;
+    Eigen::VectorXd rhs(n_local);
+    for (Eigen::Index j = 0; j < n_local; ++j) {
+      double value = g_unit[columns[j]];
+      for (Sparse::InnerIterator it(H_unit, columns[j]); it; ++it) {
+        const int i = local[it.row()];
+        if (i >= 0) block_triplets.emplace_back(i, static_cast<int>(j), it.value());
+        else value -= it.value() * base[it.row()];
+      }
+      rhs[j] = value;
     }
     const auto n_changed = static_cast<Eigen::Index>(changed.size());
+    std::vector<int> corner_slot(nc, -1), corners;
     FaceMatrix changed_faces(n_changed, 3);
+    for (Eigen::Index k = 0; k < n_changed; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        const int corner = Fc(changed[k], a);
+        if (corner_slot[corner] < 0) corner_slot[corner] = static_cast<int>(corners.size()), corners.push_back(corner);
+        changed_faces(k, a) = corner_slot[corner];
+      }
+    }
+    const auto n_rows = 2 * static_cast<Eigen::Index>(corners.size());
+    VertexMatrix corner_P(static_cast<Eigen::Index>(corners.size()), 3);
+    for (std::size_t k = 0; k < corners.size(); ++k) corner_P.row(static_cast<Eigen::Index>(k)) = P.row(corners[k]);
     VertexMatrix changed_u(n_changed, 3), changed_v(n_changed, 3);
     Eigen::VectorXd added_weight(n_changed);
     for (Eigen::Index k = 0; k < n_changed; ++k) {
-      changed_faces.row(k) = Fc.row(changed[k]);
       changed_u.row(k) = target_u.row(changed[k]);
       changed_v.row(k) = target_v.row(changed[k]);
       added_weight[k] = stiffened[changed[k]] - 1.0;
     }
     Sparse added_K;
     Eigen::VectorXd added_b;
-    detail::assemble_energy(P, changed_faces, changed_u, changed_v, added_weight, 2 * nc, added_K, added_b);
-    const Sparse H_weighted = H_unit + Sparse(Zt * added_K * Z);
-    const Eigen::VectorXd g_weighted = g_unit + Zt * (added_b - added_K * c);
-    std::vector<Eigen::Triplet<double>> selection;
-    for (std::size_t j = 0; j < columns.size(); ++j) selection.emplace_back(columns[j], static_cast<int>(j), 1.0);
-    Sparse select(n_free, static_cast<Eigen::Index>(columns.size()));
-    select.setFromTriplets(selection.begin(), selection.end());
-    Eigen::VectorXd outside = base;
-    for (const int column : columns) outside[column] = 0;
-    const Sparse block = select.transpose() * H_weighted * select;
-    const Eigen::VectorXd rhs = select.transpose() * (g_weighted - H_weighted * outside);
-    Solver block_solver;
-    detail::configure_cholmod(block_solver);
-    block_solver.compute(block);
+    detail::assemble_energy(corner_P, changed_faces, changed_u, changed_v, added_weight, n_rows, added_K, added_b);
+    // x_r = Z_r y + c_r on the corners' rows: Z_r's local columns, and the rest with base's values
+    std::vector<Eigen::Triplet<double>> z_local;
+    Eigen::VectorXd x_fixed(n_rows);
+    for (Eigen::Index r = 0; r < n_rows; ++r) {
+      const Eigen::Index variable = 2 * corners[r / 2] + r % 2;
+      x_fixed[r] = c[variable];
+      for (Sparse::InnerIterator it(Zt, variable); it; ++it) {
+        const int j = local[it.row()];
+        if (j >= 0) z_local.emplace_back(static_cast<int>(r), j, it.value());
+        else x_fixed[r] += it.value() * base[it.row()];
+      }
+    }
+    Sparse Z_rows(n_rows, n_local);
+    Z_rows.setFromTriplets(z_local.begin(), z_local.end());
+    Sparse block(n_local, n_local);
+    block.setFromTriplets(block_triplets.begin(), block_triplets.end());
+    block += Sparse(Z_rows.transpose() * added_K * Z_rows);
+    rhs += Z_rows.transpose() * (added_b - added_K * x_fixed);
+    // Successive rounds often stiffen within one region: the same block pattern, whose ordering
+    // and symbolic factorization are then reused.
+    const bool same_pattern = block.nonZeros() == block_pattern.nonZeros() && block.cols() == block_pattern.cols() &&
+                              std::equal(block.outerIndexPtr(), block.outerIndexPtr() + block.cols() + 1, block_pattern.outerIndexPtr()) &&
+                              std::equal(block.innerIndexPtr(), block.innerIndexPtr() + block.nonZeros(), block_pattern.innerIndexPtr());
+    if (!same_pattern) {
+      block_solver.analyzePattern(block);
+      block_pattern = block;
+    }
+    block_solver.factorize(block);
     if (block_solver.info() != Eigen::Success) throw SolverError("miq: CHOLMOD failed to factorize the repair system");
     const Eigen::VectorXd inside = block_solver.solve(rhs);
     if (!inside.allFinite()) throw SolverError("miq: the repair solve did not give finite values");
@@ -719,28 +763,43 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
     std::vector<Move> moves;
     H = H_unit, g = g_unit;
     factorize(with_held_identity(H, held));
-    // y with one integer moved, solved at unit weights from the factorization above.
-    auto moved = [&](int column, double step) {
-      Eigen::VectorXd trial = y;
-      trial[column] += step;
-      Eigen::VectorXd fixed_values = Eigen::VectorXd::Zero(n_free);
-      for (Eigen::Index k = 0; k < n_free; ++k) fixed_values[k] = held[k] ? trial[k] : 0.0;
-      Eigen::VectorXd rhs = g - H * fixed_values;
-      for (Eigen::Index k = 0; k < n_free; ++k)
-        if (held[k]) rhs[k] = trial[k];
-      return Eigen::VectorXd(solver.solve(rhs));
+    // y with one integer moved, solved at unit weights from the factorization above. The map is
+    // linear in the held values: a move is y's solve plus ±1 × the response to a unit change of
+    // that unknown (H's column, negated, on the unknowns not held; 1 on its own row), and the
+    // responses are solved kResponseBlock columns at a time (a solve per move and sign, one
+    // column each, was half of MIQ's time on fandisk with sharp_angle=40).
+    constexpr Eigen::Index kResponseBlock = 32;
+    Eigen::VectorXd held_values = Eigen::VectorXd::Zero(n_free);
+    for (Eigen::Index k = 0; k < n_free; ++k) held_values[k] = held[k] ? y[k] : 0.0;
+    Eigen::VectorXd rhs = g - H * held_values;
+    for (Eigen::Index k = 0; k < n_free; ++k)
+      if (held[k]) rhs[k] = y[k];
+    const Eigen::VectorXd unmoved = solver.solve(rhs);
+    auto responses = [&](const int* columns, Eigen::Index count) {
+      Eigen::MatrixXd unit_changes = Eigen::MatrixXd::Zero(n_free, count);
+      for (Eigen::Index k = 0; k < count; ++k) {
+        for (Sparse::InnerIterator it(H, columns[k]); it; ++it)
+          if (!held[it.row()]) unit_changes(it.row(), k) = -it.value();
+        unit_changes(columns[k], k) = 1.0;
+      }
+      return Eigen::MatrixXd(solver.solve(unit_changes));
     };
-    for (const int column : candidates) {
-      for (const double step : {-1.0, 1.0}) {
-        const Eigen::VectorXd trial = moved(column, step);
-        if (!trial.allFinite()) continue;
-        const CornerUV uv = corner_uv(trial);
-        Move move{detail::count_flipped(uv, nullptr), 0.0, column, step};
-        for (Eigen::Index f = 0; f < m; ++f) {
-          const double det = (uv(f, 2) - uv(f, 0)) * (uv(f, 5) - uv(f, 1)) - (uv(f, 3) - uv(f, 1)) * (uv(f, 4) - uv(f, 0));
-          move.inverted += std::max(0.0, -det);
+    auto moved = [&](int column, double step) { return Eigen::VectorXd(unmoved + step * responses(&column, 1).col(0)); };
+    for (std::size_t start = 0; start < candidates.size(); start += kResponseBlock) {
+      const auto count = std::min<Eigen::Index>(kResponseBlock, static_cast<Eigen::Index>(candidates.size() - start));
+      const Eigen::MatrixXd response = responses(candidates.data() + start, count);
+      for (Eigen::Index k = 0; k < count; ++k) {
+        for (const double step : {-1.0, 1.0}) {
+          const Eigen::VectorXd trial = unmoved + step * response.col(k);
+          if (!trial.allFinite()) continue;
+          const CornerUV uv = corner_uv(trial);
+          Move move{detail::count_flipped(uv, nullptr), 0.0, candidates[start + static_cast<std::size_t>(k)], step};
+          for (Eigen::Index f = 0; f < m; ++f) {
+            const double det = (uv(f, 2) - uv(f, 0)) * (uv(f, 5) - uv(f, 1)) - (uv(f, 3) - uv(f, 1)) * (uv(f, 4) - uv(f, 0));
+            move.inverted += std::max(0.0, -det);
+          }
+          moves.push_back(move);
         }
-        moves.push_back(move);
       }
     }
     std::sort(moves.begin(), moves.end(), [](const Move& a, const Move& b) {
@@ -882,7 +941,8 @@ int repair_by_stiffening(const FaceRef& F, Eigen::Index n_vertices, int iteratio
 
 MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta, const MiqOptions& options,
               const Progress& progress) {
-  const FieldMesh mesh(V, F, "miq");
+  const auto shared_mesh = detail::field_mesh(V, F, "miq");
+  const FieldMesh& mesh = *shared_mesh;
   detail::check_angles(theta, F.rows(), "miq");
   // The many solves (the rounding's blocked solves, the re-rounding's scans) on one BLAS thread:
   // pmp-bunny's MIQ at 3,000 quads took the same wall time with OpenBLAS's two threads and 1.7×

@@ -8,12 +8,13 @@ import numpy as np
 
 from .. import _arguments
 from .._core import InputError
+from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from .cross_field import CrossField, cross_field, merge_singularities, singularities
 from .extraction import QuadExtractionReport, extract_quads
 from .miq import grid_length, miq
-from .quality import QuadQuality, quad_quality
+from .quality import corner_measures, quad_quality
 
 __all__ = ["QuadrangulationReport", "Quadrangulation", "quadrangulate"]
 
@@ -159,33 +160,35 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     if target_faces is not None:
         target_faces = _arguments.integer(target_faces, "target_faces", 1, 2 ** 24)
     progress = _arguments.progress(progress)
-    field = cross_field(V, F, align=align, sharp_angle=sharp_angle, rounding=rounding,
-                        progress=_stage(progress, 0.0, 0.15))
-    length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
-    fixed = _feature_faces(V, F, field, sharp_angle)
-    # With features, first with their iso-line constraints, then (if every attempt folds) without.
-    plans: list[tuple[float, float | None]] = []
-    if sharp_angle is not None:
-        plans += [(factor, sharp_angle) for factor in (FEATURE_MERGE_SCHEDULE if merge else (0.0,))]
-    plans += [(factor, None) for factor in (MERGE_SCHEDULE if merge else (0.0,))]
-    best = None
-    attempts = 0
-    for attempt, (factor, features) in enumerate(plans):
-        trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
-        begin = 0.15 + 0.7 * attempt / len(plans)
-        param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
-                    target_quads=target_faces, sharp_angle=features,
-                    progress=_stage(progress, begin, begin + 0.7 / len(plans)))
-        attempts += 1
-        if best is None or param.flipped_after < best[1].flipped_after:
-            best = (trial, param, factor * length)
-        if param.flipped_after == 0:
-            break
-    assert best is not None
-    field, param, merge_distance = best
-    singular = singularities(V, F, field)
     relax = _arguments.integer(relax, "relax", 0, 1000)
     smooth = _arguments.integer(smooth, "smooth", 0, 1000)
+    # the stages share one checked mesh, its face frames and adjacency (one build instead of a dozen)
+    with _core.shared_field_mesh():
+        field = cross_field(V, F, align=align, sharp_angle=sharp_angle, rounding=rounding,
+                            progress=_stage(progress, 0.0, 0.15))
+        length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
+        fixed = _feature_faces(V, F, field, sharp_angle)
+        # With features, first with their iso-line constraints, then (if every attempt folds) without.
+        plans: list[tuple[float, float | None]] = []
+        if sharp_angle is not None:
+            plans += [(factor, sharp_angle) for factor in (FEATURE_MERGE_SCHEDULE if merge else (0.0,))]
+        plans += [(factor, None) for factor in (MERGE_SCHEDULE if merge else (0.0,))]
+        best = None
+        attempts = 0
+        for attempt, (factor, features) in enumerate(plans):
+            trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
+            begin = 0.15 + 0.7 * attempt / len(plans)
+            param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
+                        target_quads=target_faces, sharp_angle=features,
+                        progress=_stage(progress, begin, begin + 0.7 / len(plans)))
+            attempts += 1
+            if best is None or param.flipped_after < best[1].flipped_after:
+                best = (trial, param, factor * length)
+            if param.flipped_after == 0:
+                break
+        assert best is not None
+        field, param, merge_distance = best
+        singular = singularities(V, F, field)
     quads = extract_quads(V, F, param.UV, progress=_stage(progress, 0.85, 1.0))
     Vq, extracted_jacobian, relaxed = quads.V, float("nan"), 0
     if len(quads.Q):
@@ -360,11 +363,11 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
         out = np.asarray(corner_sum @ np.cross(C, np.roll(C, -1, axis=1)).sum(axis=1))
         return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-300)
 
-    def mean_deviation(quality: QuadQuality) -> float:
-        return float(np.abs(quality.angles - 90.0).mean())
+    def mean_deviation(angles: FloatArray) -> float:
+        return float(np.abs(angles - 90.0).mean())
 
-    first = quad_quality(Vq, Q)
-    best_deviation, jacobian = mean_deviation(first), first.scaled_jacobian
+    first_angles, jacobian, _ = corner_measures(Vq, Q)
+    best_deviation = mean_deviation(first_angles)
     best, P = Vq, Vq
     moved = np.zeros(n, dtype=bool)
     best_moved = 0
@@ -375,21 +378,22 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
         candidate = P.copy()
         candidate[free] = surface.closest_points(P[free] + move[free]).point
         floor = float(jacobian.min())
-        quality: QuadQuality | None = None
-        for attempt in range(11):           # the quality of the last candidate is the round's
+        measured: tuple[FloatArray, FloatArray] | None = None
+        for attempt in range(11):           # the measures of the last candidate are the round's
             try:
-                quality = quad_quality(candidate, Q)
+                angles, now, _ = corner_measures(candidate, Q)
             except InputError:              # a zero-length edge: this round gives nothing
-                quality = None
+                measured = None
                 break
-            bad = quality.scaled_jacobian < floor
+            measured = angles, now
+            bad = now < floor
             if not bad.any() or attempt == 10:
                 break
             corners = Q[bad].ravel()
             candidate[corners] = P[corners]
-        if quality is None:
+        if measured is None:
             break
-        deviation, now = mean_deviation(quality), quality.scaled_jacobian
+        deviation, now = mean_deviation(measured[0]), measured[1]
         if now.min() < floor - 1e-12 or deviation >= best_deviation:
             break
         moved |= np.any(candidate != P, axis=1)

@@ -48,6 +48,24 @@ def quad_quality(V: ArrayLike, Q: ArrayLike) -> QuadQuality:
     if len(quads) and (quads.min() < 0 or quads.max() >= len(points)):
         bad = int(np.argmax((quads < 0).any(1) | (quads >= len(points)).any(1)))
         raise InputError(f"Q[{bad}] = {quads[bad].tolist()} indexes outside V (n = {len(points)})")
+    angles, jacobian, lengths = corner_measures(points, quads)
+    valence = np.bincount(quads.ravel(), minlength=len(points)).astype(np.int64)
+    histogram = np.bincount(valence[valence > 0]).astype(np.int64) if len(quads) else np.zeros(1, np.int64)
+    return QuadQuality(
+        angles=angles,
+        angle_deviation=np.abs(angles - 90.0).max(axis=1) if len(quads) else np.zeros(0),
+        scaled_jacobian=jacobian,
+        aspect_ratio=lengths.max(axis=1) / lengths.min(axis=1) if len(quads) else np.zeros(0),
+        valence=valence,
+        valence_histogram=histogram,
+    )
+
+
+def corner_measures(points: FloatArray, quads: IndexArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The corner angles (k, 4) in degrees, the per-quad scaled Jacobian (k,) and the edge lengths
+    (k, 4) of :func:`quad_quality`, without its argument checks (points (n, 3) float64 and quads
+    (k, 4) int64 already checked): the smoothing in :func:`quadrangulate` measures every round.
+    Raises InputError for a quad with a zero-length edge."""
     P = points[quads]                                   # (k, 4, 3)
     forward = np.roll(P, -1, axis=1) - P                # corner c → c+1
     backward = np.roll(P, 1, axis=1) - P                # corner c → c-1
@@ -62,13 +80,4 @@ def quad_quality(V: ArrayLike, Q: ArrayLike) -> QuadQuality:
     norm = np.linalg.norm(normal, axis=1, keepdims=True)
     normal = np.divide(normal, norm, out=np.zeros_like(normal), where=norm > 0)
     jacobian = np.einsum("kcd,kd->kc", np.cross(forward, backward), normal) / (lengths * back_lengths)
-    valence = np.bincount(quads.ravel(), minlength=len(points)).astype(np.int64)
-    histogram = np.bincount(valence[valence > 0]).astype(np.int64) if len(quads) else np.zeros(1, np.int64)
-    return QuadQuality(
-        angles=angles,
-        angle_deviation=np.abs(angles - 90.0).max(axis=1) if len(quads) else np.zeros(0),
-        scaled_jacobian=jacobian.min(axis=1) if len(quads) else np.zeros(0),
-        aspect_ratio=lengths.max(axis=1) / lengths.min(axis=1) if len(quads) else np.zeros(0),
-        valence=valence,
-        valence_histogram=histogram,
-    )
+    return angles, jacobian.min(axis=1) if len(quads) else np.zeros(0), lengths

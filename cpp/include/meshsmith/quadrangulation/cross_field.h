@@ -20,6 +20,20 @@
 
 namespace meshsmith::quadrangulation {
 
+/// While an instance lives, the chapter's functions called on the same (V, F) as the call
+/// before (compared entry by entry) share its checked mesh, face frames and edge adjacency
+/// instead of building them again: `quadrangulate` calls a dozen of them on one mesh (pmp-bunny,
+/// 69,666 faces: 12 builds of ~20 ms, 0.2 s of its 2.6 s). Instances nest (one per thread of
+/// work is enough); when the last is destroyed the shared mesh is freed, so nothing stays in
+/// memory between calls made outside one.
+class SharedFieldMesh {
+ public:
+  SharedFieldMesh();
+  ~SharedFieldMesh();
+  SharedFieldMesh(const SharedFieldMesh&) = delete;
+  SharedFieldMesh& operator=(const SharedFieldMesh&) = delete;
+};
+
 /// What the cross field follows besides smoothness.
 enum class FieldAlignment {
   curvature,  ///< principal curvature directions where the surface is anisotropic (soft), the boundary (hard)
