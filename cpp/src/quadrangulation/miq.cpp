@@ -761,9 +761,9 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
       double step;
     };
     std::vector<Move> moves;
-    H = H_unit, g = g_unit;
-    factorize(with_held_identity(H, held));
-    // y with one integer moved, solved at unit weights from the factorization above. The map is
+    // `solver` still holds step 3's factorization: H at unit weights with these unknowns held
+    // (the repair solves its own blocks; the re-rounding changes held values, not which are held).
+    // y with one integer moved, solved at unit weights from that factorization. The map is
     // linear in the held values: a move is y's solve plus ±1 × the response to a unit change of
     // that unknown (H's column, negated, on the unknowns not held; 1 on its own row), and the
     // responses are solved kResponseBlock columns at a time (a solve per move and sign, one
@@ -775,6 +775,7 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
     for (Eigen::Index k = 0; k < n_free; ++k)
       if (held[k]) rhs[k] = y[k];
     const Eigen::VectorXd unmoved = solver.solve(rhs);
+    const meshsmith::detail::SupernodalSolve substitution(*solver.factor());  // (sparse columns: see step 2)
     auto responses = [&](const int* columns, Eigen::Index count) {
       Eigen::MatrixXd unit_changes = Eigen::MatrixXd::Zero(n_free, count);
       for (Eigen::Index k = 0; k < count; ++k) {
@@ -782,7 +783,7 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
           if (!held[it.row()]) unit_changes(it.row(), k) = -it.value();
         unit_changes(columns[k], k) = 1.0;
       }
-      return Eigen::MatrixXd(solver.solve(unit_changes));
+      return Eigen::MatrixXd(substitution.solve(unit_changes));
     };
     auto moved = [&](int column, double step) { return Eigen::VectorXd(unmoved + step * responses(&column, 1).col(0)); };
     for (std::size_t start = 0; start < candidates.size(); start += kResponseBlock) {
@@ -810,7 +811,7 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
     CornerUV best_uv;
     Eigen::Index best_count = result.flipped_after;
     int best_rounds = 0;
-    std::vector<Eigen::VectorXd> trials;  // solved before any repair (a repair may refactorize `solver`)
+    std::vector<Eigen::VectorXd> trials;
     for (std::size_t k = 0; k < std::min(kRepairedMoves, moves.size()); ++k)
       trials.push_back(moved(moves[k].column, moves[k].step));
     for (Eigen::VectorXd& trial : trials) {
