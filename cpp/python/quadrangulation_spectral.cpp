@@ -75,6 +75,7 @@ void bind_quadrangulation_spectral(py::module_& m) {
     out["detours"] = r.detours;
     out["gap_routes"] = r.gap_routes;
     out["candidates_tried"] = r.candidates_tried;
+    out["traced_faces"] = r.traced_faces;
     out["cancelled_extrema"] = r.cancelled_extrema;
     out["simplification_rounds"] = r.simplification_rounds;
     out["coupled"] = r.coupled;

@@ -37,6 +37,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <string>
 #include <tuple>
@@ -171,12 +172,12 @@ int split_edge(Surface& S, std::vector<std::vector<int>>& vertex_faces, int a, i
   return m;
 }
 
-/// Traces the complex's lines; `stuck` says a line found no admissible step (refinement may
-/// help). The cells follow (build_cells) unless the lines are incomplete.
+/// Traces the complex's lines; `stuck` is the saddle of the first line that found no admissible
+/// step (refinement may help), −1 when none did. The cells follow (build_cells) unless the lines are incomplete.
 /// With `split` (S is then refined in place: the complex refers to the refined mesh), a line walled
 /// in by others goes on through the gaps between them: a shortest path that may run through the
 /// midpoints of mesh edges joining two lines (or a line and an extremum), which are then split.
-MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& stuck, int order = 0, bool split = false) {
+MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, int& stuck, int order = 0, bool split = false) {
   const Eigen::VectorXd& f = S.f;
   int n = static_cast<int>(S.V.rows());
   Rings rings = initial_rings;
@@ -189,7 +190,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
     C.saddles += C.saddle_multiplicity[v];
   }
   C.face_patch.setConstant(S.F.rows(), -1);
-  stuck = false;
+  stuck = -1;
 
   std::vector<int> owner(n, -1), reserved(n, -1);
   // A route towards a given extremum is given up (and another way tried) once it would be longer
@@ -558,7 +559,7 @@ MorseSmaleComplex trace_complex(Surface& S, const Rings& initial_rings, bool& st
         }
       }
       if (line.size() < 2 || !is(line.back(), up ? CriticalType::maximum : CriticalType::minimum)) {
-        stuck = true;
+        stuck = s;
         C.problem = std::string("the ") + (up ? "ascending" : "descending") + " line from saddle " +
                     std::to_string(s) + " found no free step at vertex " + std::to_string(line.back());
       }
@@ -1337,7 +1338,7 @@ MorseSmaleComplex morse_smale_complex(const VertexRef& input_V, const FaceRef& F
     if (!std::isfinite(f[i])) throw InputError("morse_smale_complex: f[" + std::to_string(i) + "] is not finite");
   Surface S{normalized.V, F, f};
   const Rings rings = one_rings(S.F, static_cast<int>(S.V.rows()));
-  bool stuck = false;
+  int stuck = -1;
   return trace_complex(S, rings, stuck, 0, false);
 }
 
@@ -1410,9 +1411,14 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
   }
   progress.report(0.6, "Morse-Smale complex");
   std::string last_problem = "no eigenvector among the first " + std::to_string(k) + " has a saddle";
-  Eigen::Index tried = 0;
-  for (const Eigen::Index index : candidates) {
-    ++tried;
+  Eigen::Index tried = 0, traced_faces = 0;
+  // Candidate `index` traced at levels first_level .. last_level of refinement (the levels below
+  // are subdivided without tracing): its quads when a complex there is complete and maps, else
+  // nothing (last_problem says why); `deferred` when it was still stuck at last_level < 2, so a
+  // deeper level might complete it.
+  const auto attempt = [&](Eigen::Index index, int first_level, int last_level,
+                           bool& deferred) -> std::optional<SpectralQuadrangulation> {
+    deferred = false;
     Eigen::VectorXd function = eigen.vectors.col(index);
     Eigen::VectorXi before_type, before_multiplicity;
     classify(rings, function, before_type, before_multiplicity);
@@ -1421,22 +1427,24 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         (before_type.array() == static_cast<int>(CriticalType::minimum)).count();
     const int rounds = simplify_to(rings, function, keep_for(index));
     Surface S = star_split(Surface{V, FaceMatrix(F), function});
-    for (int level = 0;; ++level) {
+    for (int level = 0; level < first_level; ++level) S = star_split(subdivide(S));
+    for (int level = first_level;; ++level) {
       const Rings surface_rings = one_rings(S.F, static_cast<int>(S.V.rows()));
-      bool stuck = false, any_stuck = false;
+      bool stuck = false;
       MorseSmaleComplex C;
       Surface T;
       for (int order = 0; order < 4; ++order) {
         Surface work = S;
-        C = trace_complex(work, surface_rings, stuck, order, true);
-        any_stuck = any_stuck || stuck;
+        int stuck_saddle = -1;
+        traced_faces += S.F.rows();
+        C = trace_complex(work, surface_rings, stuck_saddle, order, true);
+        stuck = stuck || stuck_saddle >= 0;
         if (C.complete()) {
           T = std::move(work);
           if (split_chords(T, C) > 0) build_cells(T, C);
         }
         if (C.complete()) break;
       }
-      stuck = any_stuck;
       if (C.complete()) {
         SpectralQuadrangulation out;
         const LineCounts counts = line_counts(T, C, h, quads);
@@ -1449,7 +1457,7 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
             out = cell_grids(T, C, counts, progress.subrange(0.65, 1.0));
           } catch (const SolverError& error) {  // a folded map: the next candidate
             last_problem = "eigenvector " + std::to_string(index) + ": " + error.what();
-            break;
+            return std::nullopt;
           }
         }
         out.coupled = coupled.complete;
@@ -1464,7 +1472,7 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
             degenerate = !((out.V.row(out.Q(q, c)) - out.V.row(out.Q(q, (c + 1) % 4))).squaredNorm() > 1e-24);
         if (degenerate) {
           last_problem = "eigenvector " + std::to_string(index) + ": two grid nodes of a cell coincide";
-          break;
+          return std::nullopt;
         }
         out.V = normalized.frame.vertices_to_input(out.V, "spectral_quadrangulate: vertex");
         out.eigenvector = index;
@@ -1478,16 +1486,40 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         out.detours = C.detours;
         out.gap_routes = C.gap_routes;
         out.candidates_tried = tried;
+        out.traced_faces = traced_faces;
         out.cancelled_extrema = extrema_before - C.maxima - C.minima;
         out.simplification_rounds = rounds;
         progress.report(1.0, "done");
         return out;
       }
       last_problem = "eigenvector " + std::to_string(index) + ": " + C.problem;
-      if (!stuck || level == 2 || S.F.rows() * 4 > 4000000) break;
+      if (!stuck || level == 2 || S.F.rows() * 4 > 4000000) return std::nullopt;
+      if (level == last_level) {
+        deferred = true;
+        return std::nullopt;
+      }
       S = star_split(subdivide(S));
       progress.report(0.6, "Morse-Smale complex");
     }
+  };
+  // The second 1-to-4 subdivision is deferred past the best-ranked candidate: a level-2 trace
+  // (16 times the faces) took 75-85% of a failing candidate's time on pmp-bunny and fertility
+  // and completed once in 65 tries across the seven shared meshes at 2,000 quads (spot's first
+  // candidate), while levels 0 and 1 completed the other six. So the first candidate is traced
+  // at levels 0-2, the others at levels 0-1, and only when none of them completes are those
+  // still stuck traced at level 2, in the same order. pmp-bunny: 25 level-2 traces before its
+  // 26th candidate completed at level 0 (46-65 s), fertility 36 before its 37th at level 1.
+  constexpr std::size_t kFullDepthCandidates = 1;
+  std::vector<Eigen::Index> deferred_candidates;
+  for (std::size_t rank = 0; rank < candidates.size(); ++rank) {
+    ++tried;
+    bool deferred = false;
+    if (auto out = attempt(candidates[rank], 0, rank < kFullDepthCandidates ? 2 : 1, deferred)) return std::move(*out);
+    if (deferred) deferred_candidates.push_back(candidates[rank]);
+  }
+  for (const Eigen::Index index : deferred_candidates) {
+    bool deferred = false;
+    if (auto out = attempt(index, 2, 2, deferred)) return std::move(*out);
   }
   throw SolverError("spectral_quadrangulate: no complete Morse-Smale complex among " + std::to_string(tried) +
                     " eigenvector(s); " + last_problem);

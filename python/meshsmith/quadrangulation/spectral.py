@@ -89,7 +89,8 @@ class SpectralQuadrangulationReport(Unpackable):
     detours: lines that went on beside another (see :func:`morse_smale_complex`); gap_routes: of
     them, lines walled in by others that went on through the gaps between them (the mesh edges
     across a gap split at their midpoints);
-    candidates_tried: eigenvectors traced; cancelled_extrema: extrema of the eigenvector cancelled
+    candidates_tried: eigenvectors traced; traced_faces: faces of the (refined) surfaces the
+    complexes were traced on, summed over every trace (the search's work); cancelled_extrema: extrema of the eigenvector cancelled
     with as many saddles by the persistence-based simplification before tracing (persistence
     below 3% of its range, or beyond the most persistent ones the target asks for);
     simplification_rounds: its sweep rounds (-1: it did not converge and the eigenvector was used
@@ -120,6 +121,7 @@ class SpectralQuadrangulationReport(Unpackable):
     detours: int
     gap_routes: int
     candidates_tried: int
+    traced_faces: int
     cancelled_extrema: int
     simplification_rounds: int
     irregular_vertices: int
@@ -213,6 +215,7 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
         saddles=int(out["saddles"]), multi_saddles=int(out["multi_saddles"]),
         saddle_vertices=int(out["saddle_vertices"]),
         refinements=int(out["refinements"]), detours=int(out["detours"]), gap_routes=int(out["gap_routes"]), candidates_tried=int(out["candidates_tried"]),
+        traced_faces=int(out["traced_faces"]),
         cancelled_extrema=int(out["cancelled_extrema"]), simplification_rounds=int(out["simplification_rounds"]),
         irregular_vertices=_irregular_vertices(Q, quality.valence),
         mean_angle_deviation=float(deviation.mean()), max_angle_deviation=float(deviation.max()),

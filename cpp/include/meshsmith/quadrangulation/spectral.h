@@ -93,6 +93,7 @@ struct SpectralQuadrangulation {
   Eigen::Index detours = 0;       ///< lines that went on beside another (MorseSmaleComplex::detours)
   Eigen::Index gap_routes = 0;    ///< of them, lines that went through gaps (MorseSmaleComplex::gap_routes)
   Eigen::Index candidates_tried = 0;  ///< eigenvectors whose complex was traced
+  Eigen::Index traced_faces = 0;  ///< faces of the surfaces traced, summed over every trace (the search's work)
   /// Extrema of the eigenvector cancelled (with as many saddles) by the persistence-based
   /// simplification before the complex was traced.
   Eigen::Index cancelled_extrema = 0;
