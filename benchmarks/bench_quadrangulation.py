@@ -259,7 +259,8 @@ def spectral_cases(im, cases):
             figures["Instant Meshes"] = describe(*bench.output("Instant Meshes"), euler, (V, F))
         print_figures(figures, euler)
         report = result.report
-        print(f"  spectral: eigenvector {report.eigenvector} ({report.candidates_tried} tried), {report.patches} cells, "
+        print(f"  spectral: eigenvector {report.eigenvector} ({report.candidates_tried} tried, {report.traced_faces:,} faces "
+              f"traced), {report.patches} cells, "
               f"{report.maxima} max / {report.saddles} saddles / {report.minima} min after cancelling "
               f"{report.cancelled_extrema} extrema, {report.refinements} refinement(s), {report.gap_routes} lines "
               f"through gaps, inverted quads {report.inverted_before_relaxing} → {report.inverted_quads} "

@@ -181,9 +181,10 @@ def test_real_mesh_quadrangulation(data_dir, name, hausdorff_bound, volume_toler
 
 def test_search_defers_the_second_refinement(data_dir):
     # fertility (genus 4) at 2,000 quads: 36 candidates fail before the 37th completes at level 1.
-    # With the level-2 traces (16x the faces) deferred past the first candidate, the search traces
-    # ~820 times the input's faces (measured 7.4 million on 9,000 faces) where tracing every
-    # candidate to level 2 took ~3,170 times (28.5 million); the same eigenvector wins.
+    # With the refinements deferred (every candidate traced at level 0 first, then those stuck at
+    # level 1, then level 2), the search traces ~900 times the input's faces (measured 8.1 million
+    # on 9,000 faces) where tracing each candidate to level 2 before the next took ~3,170 times
+    # (28.5 million); the same eigenvector wins.
     V, F = io.read_mesh(data_dir / "fertility.off")
     result = spectral_quadrangulate(V, F, target_faces=2000)
     report = result.report

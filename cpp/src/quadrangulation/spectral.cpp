@@ -8,7 +8,8 @@
 //    makes every cell an embedded disk whose boundary maps onto the square's sides without a
 //    degenerate triangle. A line with no admissible step leaves the complex incomplete: the mesh is
 //    then split 1-to-4 (the function interpolated linearly, so the same PL function and the same
-//    critical points) and the complex traced again.
+//    critical points) and the complex traced again (for the candidate eigenvectors after the
+//    nearest ones, only once no candidate completed on the coarser mesh).
 // 3. The maps: every cell, cut out as its own disk, is mapped by a mean-value harmonic map
 //    (parametrization::harmonic) onto the unit square, its corners on the square's corners and
 //    its sides spaced by arc length.
@@ -1395,10 +1396,10 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
     return kept[i];
   };
   std::vector<Eigen::Index> candidates;
+  std::vector<Eigen::Index> cells(k, 0);  // predicted cells per eigenvector: 2 (kept extrema − χ)
   if (options.eigenvector > 0) {
     candidates.push_back(options.eigenvector);
   } else {
-    std::vector<Eigen::Index> cells(k, 0);
     for (Eigen::Index i = 1; i < k; ++i) {
       const std::vector<char>& keep = keep_for(i);
       cells[i] = 2 * (std::count(keep.begin(), keep.end(), char(1)) - euler);
@@ -1502,24 +1503,36 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
       progress.report(0.6, "Morse-Smale complex");
     }
   };
-  // The second 1-to-4 subdivision is deferred past the best-ranked candidate: a level-2 trace
-  // (16 times the faces) took 75-85% of a failing candidate's time on pmp-bunny and fertility
-  // and completed once in 65 tries across the seven shared meshes at 2,000 quads (spot's first
-  // candidate), while levels 0 and 1 completed the other six. So the first candidate is traced
-  // at levels 0-2, the others at levels 0-1, and only when none of them completes are those
-  // still stuck traced at level 2, in the same order. pmp-bunny: 25 level-2 traces before its
-  // 26th candidate completed at level 0 (46-65 s), fertility 36 before its 37th at level 1.
-  constexpr std::size_t kFullDepthCandidates = 1;
+  // Refinement is deferred past the candidates nearest the target: a candidate's level-1 and
+  // level-2 traces (4 and 16 times the faces) are made only when no candidate completed at the
+  // level before. Measured at 2,000 quads on spot, kitten, fertility, rocker-arm, cheburashka,
+  // pmp-bunny and bumpy-cube: a level-2 trace took 75-85% of a failing candidate's time on
+  // pmp-bunny (~1.5-2 s of ~2.3 s) and fertility and completed once in 65 tries (spot's first
+  // candidate); pmp-bunny traced 25 candidates to level 2 before its 26th completed at level 0.
+  // The candidates about as near the target as the first (|cells − target| at most the first's
+  // plus 10% of its cells) keep all three levels at once, so that a coarser complex further down
+  // the list does not replace theirs: rocker-arm's third candidate completes at level 1; with only
+  // the first at full depth its 16th (34 cells instead of 48, 7 inverted quads instead of 1)
+  // completed at level 0 instead. With this rule the seven meshes keep their eigenvectors.
   std::vector<Eigen::Index> deferred_candidates;
+  const auto deviation = [&](Eigen::Index i) { return std::abs(cells[i] - target_patches); };
   for (std::size_t rank = 0; rank < candidates.size(); ++rank) {
+    const Eigen::Index index = candidates[rank];
+    const bool full_depth =
+        rank == 0 || 10 * deviation(index) <= 10 * deviation(candidates.front()) + cells[candidates.front()];
     ++tried;
     bool deferred = false;
-    if (auto out = attempt(candidates[rank], 0, rank < kFullDepthCandidates ? 2 : 1, deferred)) return std::move(*out);
-    if (deferred) deferred_candidates.push_back(candidates[rank]);
+    if (auto out = attempt(index, 0, full_depth ? 2 : 0, deferred)) return std::move(*out);
+    if (deferred) deferred_candidates.push_back(index);
   }
-  for (const Eigen::Index index : deferred_candidates) {
-    bool deferred = false;
-    if (auto out = attempt(index, 2, 2, deferred)) return std::move(*out);
+  for (int level = 1; level <= 2; ++level) {
+    std::vector<Eigen::Index> still_stuck;
+    for (const Eigen::Index index : deferred_candidates) {
+      bool deferred = false;
+      if (auto out = attempt(index, level, level, deferred)) return std::move(*out);
+      if (deferred) still_stuck.push_back(index);
+    }
+    deferred_candidates.swap(still_stuck);
   }
   throw SolverError("spectral_quadrangulate: no complete Morse-Smale complex among " + std::to_string(tried) +
                     " eigenvector(s); " + last_problem);
