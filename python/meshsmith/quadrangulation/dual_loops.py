@@ -165,8 +165,10 @@ def dual_loop_layout(V: ArrayLike, F: ArrayLike, field: FieldLike, *, spacing: f
     vertices, share no edge, never revisit a vertex, and cross only transversally and orthogonally
     at vertices. Seeds are chosen greedily, farthest (geodesically) from the loops of their family,
     within a faulty region while one exists, until every region cut by the loops is a disk with at
-    most one singularity and no vertex is farther than 0.75·spacing from a loop. The layout is the
-    arrangement's dual: a vertex per region, a quad per crossing.
+    most one singularity and no vertex is farther than 0.75·spacing from a loop; then a loop at a
+    layout vertex of valence 2 is dropped where that lowers the layout's faults (where valence 2 is
+    the only fault left, with the selection run again). The layout is the arrangement's dual: a
+    vertex per region, a quad per crossing.
 
     V: (n, 3) float array, F: (m, 3) integer array, a clean, connected, oriented, closed manifold;
     field: a :class:`CrossField`, (m,) angles or (m, 3) directions (as :func:`cross_field`).

@@ -93,12 +93,15 @@ struct DualLoopLayout {
 /// nearest singularity), restricted to the faulty regions while a region is not a disk or holds
 /// more than one singularity; a traced loop pays a separation penalty near loops of its own
 /// family. It stops when the regions are valid and the loops cover the surface at `spacing`, or
-/// when max_loops / max_failed_seeds is reached (the report then says what is missing).
+/// when max_loops / max_failed_seeds is reached (the report then says what is missing). Then a
+/// loop at a layout vertex of valence 2 is dropped where that lowers the layout's faults (with
+/// the selection run again, up to 4 × 3 times, where valence 2 is the only fault left).
 /// V: #V×3, F: #F×3, theta: #F.
 /// \pre a clean, connected, oriented, closed 2-manifold.
 /// \throw InputError as cross_field, for a mesh with boundary, a theta that is not #F finite
 ///        values, or options out of range; Cancelled from `progress`.
-/// Complexity: one Dijkstra over 4#V (vertex, direction class) states per seed tried.
+/// Complexity: one Dijkstra over 4#V (vertex, direction class) states per seed tried; a region
+/// flood fill per loop tried as a drop.
 DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta,
                                 const DualLoopOptions& options = {}, const Progress& progress = {});
 
