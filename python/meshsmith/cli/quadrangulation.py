@@ -85,14 +85,15 @@ def _dual_loops(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
         spacing = float(np.sqrt(area)) / 4                # dual_loop_layout's default
     start = time.perf_counter()
     field = quadrangulation.cross_field(V, F, align=args.align or "smooth", sharp_angle=args.sharp_angle)
-    merged = quadrangulation.merge_singularities(V, F, field, DUAL_LOOP_MERGE * spacing)
-    layout = quadrangulation.dual_loop_layout(V, F, merged, spacing=spacing, refine=args.refine, progress=ProgressBar())
+    # merged inside (merge_singularities, then neighbouring ±1 pairs pulled apart); layout.theta is that field
+    layout = quadrangulation.dual_loop_layout(V, F, field, spacing=spacing, merge=DUAL_LOOP_MERGE, refine=args.refine,
+                                              progress=ProgressBar())
     seconds = time.perf_counter() - start
     io.write_mesh(args.output, layout.Vq, layout.Q)
     report = layout.report
     if args.picture:
         name = Path(args.input).name
-        pictures = [quadrangulation.field_picture(V, F, merged, size=PANEL,
+        pictures = [quadrangulation.field_picture(layout.V_traced, layout.F_traced, layout.theta, size=PANEL,
                                                   title=f"{name}: {len(layout.singular_vertices)} singularities"),
                     quadrangulation.regions_picture(layout.V_traced, layout.F_traced, layout.region, size=PANEL,
                                                     marked=layout.Vq_vertex, title=f"{report.loops} loops, "
