@@ -496,6 +496,23 @@ def test_refined_kitten_with_parallel_crossings_is_complete(data_dir):
     assert 70 <= len(layout.Q) <= 160
 
 
+def test_refined_rocker_arm_is_complete_with_a_wider_merge(data_dir):
+    # Issue 15 part 7: at merge=1.5 rocker-arm's field keeps one ±1 pair (9660/9697, neighbours;
+    # pulled apart it still shares a region). Merging at 2.5 spacings instead leaves 4 singularities
+    # (two of each sign, none neighbours) and, split 1-to-4 with parallel crossings, a complete
+    # layout (measured 2026-12-04: 7 loops, 19 quads). Not the default: at 2.5 spot and kitten keep
+    # a valence-2 vertex and fertility regions with several cones.
+    V, F = repair.clean(*io.read_mesh(data_dir / "rocker-arm.obj"))[:2]
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=2.5, refine=1,
+                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    check_complete(layout.V_traced, layout.F_traced, layout)
+    report = layout.report
+    assert layout.singular_indices.sum() == 0 and len(layout.singular_vertices) >= 2       # 4χ = 0
+    assert (report.region_singularities <= 1).all() and report.euler_layout == report.euler_input == 0
+    assert (report.region_singularities == 1).sum() == len(layout.singular_vertices)
+    assert 10 <= len(layout.Q) <= 60
+
+
 def test_refined_pmp_bunny_with_parallel_crossings_is_complete(data_dir):
     # Issue 15 part 7: pmp-bunny's smooth field merged (56 -> 10 singularities) left a ±1 dipole on
     # neighbouring vertices (16321/16322) in one region, also with refine=1 alone; with the pair
