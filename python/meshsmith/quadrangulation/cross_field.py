@@ -4,7 +4,7 @@ src/quadrangulation/cross_field.cpp.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Union
+from typing import Any, Callable, Union
 
 import numpy as np
 
@@ -246,14 +246,7 @@ def _merge_pass(mesh: ReferencedMesh, field: CrossField, distance: float, fixed_
     graph = scipy.sparse.coo_matrix((length[e_in], (edges[e_in, 0], edges[e_in, 1])), shape=(n, n)).tocsr()
     dist, predecessors = dijkstra(graph, directed=False, indices=candidates, limit=distance,
                                                        return_predecessors=True)
-    # edge (i < j) → its row, by binary search on the sorted keys i·n + j (a dict of every edge took
-    # 9.8 s of a 90 s pmp-bunny run at load 20; the paths below touch a few dozen edges)
-    keys = edges[:, 0] * n + edges[:, 1]
-    key_order = np.argsort(keys)
-    sorted_keys = keys[key_order]
-
-    def edge_id(x: int, y: int) -> int:
-        return int(key_order[np.searchsorted(sorted_keys, min(x, y) * n + max(x, y))])
+    edge_row = _edge_rows(edges, n)
     row_of = {int(v): r for r, v in enumerate(candidates)}
     pairs = sorted((dist[r, b], int(a), int(b)) for r, a in enumerate(candidates) for b in candidates
                    if b != a and np.isfinite(dist[r, b]))
@@ -261,13 +254,7 @@ def _merge_pass(mesh: ReferencedMesh, field: CrossField, distance: float, fixed_
 
     def move(a: int, b: int, row: np.ndarray) -> None:
         """Moves a's index to b along the shortest path (predecessor row `row` of a search from a)."""
-        y = b
-        while y != a:
-            x = int(row[y])
-            # x → y carries a's index onward (I_x −= i, I_y += i); p_e += 1 moves one unit from j to i (i < j)
-            e = edge_id(x, y)
-            jumps[e] += index[a] if x > y else -index[a]
-            y = x
+        _carry_index(jumps, edge_row, row, a, b, int(index[a]))
         index[b] += index[a]
         index[a] = 0
         moved.extend([a, b])
@@ -308,3 +295,30 @@ def _merge_pass(mesh: ReferencedMesh, field: CrossField, distance: float, fixed_
     return CrossField(theta=solved, directions=directions, edges=mesh.vertex_map[edges] if mesh.removed else edges,
                       edge_faces=edge_faces, connection=connection, period_jumps=np.asarray(edges_out["period_jumps"], dtype=np.int64),
                       constrained_faces=field.constrained_faces), edges_out
+
+
+def _edge_rows(edges: np.ndarray, n: int) -> Callable[[int, int], int]:
+    """The row of edge (x, y) in `edges` ((e, 2) int64, each row i < j, n vertices), by binary
+    search on the sorted keys i·n + j (a dict of every edge took 9.8 s of a 90 s pmp-bunny run at
+    load 20; the paths that use it touch a few dozen edges)."""
+    keys = edges[:, 0] * n + edges[:, 1]
+    key_order = np.argsort(keys)
+    sorted_keys = keys[key_order]
+
+    def edge_row(x: int, y: int) -> int:
+        return int(key_order[np.searchsorted(sorted_keys, min(x, y) * n + max(x, y))])
+    return edge_row
+
+
+def _carry_index(jumps: np.ndarray, edge_row: Callable[[int, int], int], predecessors: np.ndarray,
+                source: int, target: int, quarter_turns: int) -> None:
+    """Moves a singularity index of `quarter_turns` from vertex `source` to `target` by changing
+    the period `jumps` (per edge of :func:`_edge_rows`, in place) along the shortest path, given by
+    `predecessors` (the predecessor row of a search from source): each step x → y carries the
+    index onward (I_x −= i, I_y += i), and p_e += 1 moves one unit from j to i (i < j)."""
+    y = target
+    while y != source:
+        x = int(predecessors[y])
+        e = edge_row(x, y)
+        jumps[e] += quarter_turns if x > y else -quarter_turns
+        y = x

@@ -17,7 +17,8 @@ from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from ..datasets import _split_in_four
 from ..geometry import gaussian_curvature, surface_area
 from ..repair.unreferenced import on_referenced_vertices
-from .cross_field import CrossField, FieldLike, field_angles, merge_singularities, singularities
+from .cross_field import (CrossField, FieldLike, _carry_index, _edge_rows, field_angles, merge_singularities,
+                          singularities)
 
 __all__ = ["DualLoopReport", "DualLoopLayout", "dual_loop_layout", "RefinedField", "refine_field"]
 
@@ -188,9 +189,7 @@ def _separate_neighbouring_pairs(P: np.ndarray, T: np.ndarray, theta: np.ndarray
     defect = gaussian_curvature(P, T)
     length = np.linalg.norm(P[edges[:, 1]] - P[edges[:, 0]], axis=1)
     graph = scipy.sparse.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
-    keys = edges[:, 0] * n + edges[:, 1]
-    key_order = np.argsort(keys)
-    sorted_keys = keys[key_order]
+    edge_row = _edge_rows(edges, n)
     moved: list[int] = []
     for a, b in pairs:
         if index[a] == 0 or index[b] == 0:
@@ -206,12 +205,7 @@ def _separate_neighbouring_pairs(P: np.ndarray, T: np.ndarray, theta: np.ndarray
         t = int(np.argmin(score))
         if not np.isfinite(score[t]):
             continue
-        y = t
-        while y != go:  # x → y carries go's index onward, as merge_singularities' move
-            x = int(row[y])
-            e = int(key_order[np.searchsorted(sorted_keys, min(x, y) * n + max(x, y))])
-            jumps[e] += index[go] if x > y else -index[go]
-            y = x
+        _carry_index(jumps, edge_row, row, go, t, int(index[go]))
         index[t], index[go] = index[go], 0
         moved.extend([stay, go, t])
     if not moved:
