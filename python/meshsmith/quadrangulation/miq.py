@@ -38,7 +38,7 @@ class MiqResult(Unpackable):
     separation (the nearest was taken); released_feature_edges: feature edges left free because
     the map folded with them held (where flips remain, the feature edges within one quad edge of
     them are released and the map solved again, kept when it has fewer flips, else the radius
-    grows by half a quad edge; at most six re-solves); release_rounds: the re-solve the result
+    grows by half a quad edge; at most ten re-solves); release_rounds: the re-solve the result
     came from (0: every feature as asked); rerounded_integers: integer unknowns moved by ±1
     after the repair because flips were left (each move kept only when the repaired map has
     fewer flips: two cones rounded onto one point or into an order the triangles between them
