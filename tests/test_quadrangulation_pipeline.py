@@ -212,6 +212,23 @@ def test_command_line_writes_a_quad_mesh(tmp_path, capsys):
     assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "10", "--edge-length", "0.2"]) == 2
 
 
+def test_command_line_passes_the_curvature_weight(tmp_path):
+    """--curvature-weight reaches quadrangulate (the quads equal the function's at that weight),
+    and is refused with another method or a negative value."""
+    V, F = datasets.torus(1.0, 0.4, 32, 12)
+    path = tmp_path / "torus.off"
+    io.write_mesh(path, V, F)
+    out = tmp_path / "quads.obj"
+    assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "120", "--curvature-weight", "0.03"]) == 0
+    Vq, P = io.read_mesh(out, triangulate=False)
+    V0, F0 = io.read_mesh(path)
+    expected = quadrangulate(V0, F0, target_faces=120, curvature_weight=0.03)
+    assert len(P.sizes) == len(expected.Q) and np.allclose(Vq, expected.V, atol=1e-6)
+    assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "120", "--method", "spectral",
+                     "--curvature-weight", "0.03"]) == 2
+    assert cli.main(["quadrangulate", str(path), "-o", str(out), "--faces", "120", "--curvature-weight", "-1"]) == 2
+
+
 def test_the_result_carries_the_merged_field_its_map_follows(data_dir):
     from meshsmith.quadrangulation import singularities
     V, F = io.read_mesh(data_dir / "spot.obj")
