@@ -56,6 +56,32 @@ def test_torus_curvature_field_follows_the_parallels_and_has_no_singularity():
     assert np.degrees(error.max()) < 3.0 and np.degrees(error.mean()) < 1.5
 
 
+def test_crease_term_aligns_the_field_to_fandisks_creases(data_dir):
+    """The crease term (crease_weight, the extrinsic misfit across folds): on fandisk, of the
+    faces at edges folding more than 40°, the share whose cross is within 5° of the edge is 97%
+    at the default 0.2 and 79% without the term (2026-12-04; 99% at 1.0); the field is soft (no
+    face held) and Poincaré–Hopf still holds."""
+    from meshsmith import repair
+    V, F = repair.clean(*io.read_mesh(data_dir / "fandisk.obj"))[:2]
+    V, F = np.asarray(V), np.asarray(F)
+    normals = face_normals(V, F)
+
+    def aligned_share(field):
+        pairs = field.edge_faces
+        inner = pairs[:, 1] >= 0
+        edges, pairs = field.edges[inner], pairs[inner]
+        sharp = (normals[pairs[:, 0]] * normals[pairs[:, 1]]).sum(1) < np.cos(np.radians(40))
+        direction = V[edges[sharp, 1]] - V[edges[sharp, 0]]
+        errors = [cross_angle_error(field.directions[pairs[sharp, side]], direction, normals[pairs[sharp, side]])
+                  for side in (0, 1)]
+        return (np.degrees(np.concatenate(errors)) < 5).mean()
+
+    default, plain = cross_field(V, F), cross_field(V, F, crease_weight=0)
+    assert default.constrained_faces == 0
+    assert aligned_share(default) >= 0.95 and aligned_share(plain) < 0.9
+    assert singularities(V, F, default).indices.sum() == 4 * euler_characteristic(F)
+
+
 def test_torus_smooth_field_sums_to_zero():
     V, F = datasets.torus(n_major=40, n_minor=12)
     _, indices = singularities(V, F, cross_field(V, F, align="smooth"))
@@ -156,6 +182,9 @@ def test_bad_fields_and_options_raise_input_error():
         cross_field(V, F, constraints=([len(F)], [[1.0, 0.0, 0.0]]))
     with pytest.raises(meshsmith.InputError, match="sharp_angle"):
         cross_field(V, F, sharp_angle=-3)
+    for weight in (-0.1, np.nan, np.inf):
+        with pytest.raises(meshsmith.InputError, match="crease_weight"):
+            cross_field(V, F, crease_weight=weight)
     F2 = np.vstack([F, F[:1] + 0])  # a duplicated face: non-manifold edges
     with pytest.raises(meshsmith.InputError):
         cross_field(V, F2)

@@ -67,7 +67,8 @@ void bind_quadrangulation(py::module_& m) {
       });
   m.def("cross_field", [](const py::object& V, const py::object& F, const std::string& align, double sharp_angle,
                           const py::object& constraint_faces, const py::object& constraint_directions,
-                          double curvature_weight, const std::string& rounding, const py::object& callback) {
+                          double curvature_weight, double crease_weight, const std::string& rounding,
+                          const py::object& callback) {
     const MeshArguments mesh(V, F);
     CrossFieldOptions options;
     options.align = parse_choice<FieldAlignment>(align, "align", {{"curvature", FieldAlignment::curvature},
@@ -78,6 +79,7 @@ void bind_quadrangulation(py::module_& m) {
                                                                           {"greedy", FieldRounding::greedy}});
     options.sharp_angle_degrees = sharp_angle;
     options.curvature_weight = curvature_weight;
+    options.crease_weight = crease_weight;
     if (!constraint_faces.is_none()) {
       const IndexArray faces = as_index_vector(constraint_faces, "constraints (faces)");
       options.constraint_faces.assign(faces.data(), faces.data() + faces.shape(0));
@@ -96,8 +98,8 @@ void bind_quadrangulation(py::module_& m) {
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("align") = "curvature", py::arg("sharp_angle") = 0.0,
      py::arg("constraint_faces") = py::none(), py::arg("constraint_directions") = py::none(),
-     py::arg("curvature_weight") = 1e-3, py::arg("rounding") = "none", py::arg("progress") = py::none(),
-     "A cross field (§5.2.2 step 1); see meshsmith.quadrangulation.cross_field.");
+     py::arg("curvature_weight") = 1e-3, py::arg("crease_weight") = 0.2, py::arg("rounding") = "none",
+     py::arg("progress") = py::none(), "A cross field (§5.2.2 step 1); see meshsmith.quadrangulation.cross_field.");
 
   m.def("field_angles", [](const py::object& V, const py::object& F, const py::object& directions) {
     const MeshArguments mesh(V, F);

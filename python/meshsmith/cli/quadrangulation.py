@@ -28,25 +28,27 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
         raise UsageError("--faces and --edge-length are exclusive: give one")
     if args.refine and args.method != "dual-loops":
         raise UsageError("--refine is for --method dual-loops only")
-    if args.curvature_weight is not None and args.method != "miq":
-        raise UsageError("--curvature-weight is for --method miq only")
+    for option in ("curvature_weight", "crease_weight"):
+        if getattr(args, option) is not None and args.method != "miq":
+            raise UsageError(f"--{option.replace('_', '-')} is for --method miq only")
     V, F = read_mesh(args.input)
     if args.method == "spectral":
         return _spectral(args, V, F)
     if args.method == "dual-loops":
         return _dual_loops(args, V, F)
     align = args.align or "curvature"
-    weight = 1e-3 if args.curvature_weight is None else args.curvature_weight   # quadrangulate's default
+    weights = {option: getattr(args, option) for option in ("curvature_weight", "crease_weight")
+               if getattr(args, option) is not None}                           # else quadrangulate's defaults
     start = time.perf_counter()
     result = quadrangulation.quadrangulate(V, F, target_faces=args.faces, target_edge_length=args.edge_length,
-                                           align=align, sharp_angle=args.sharp_angle, curvature_weight=weight,
-                                           progress=ProgressBar())
+                                           align=align, sharp_angle=args.sharp_angle, progress=ProgressBar(),
+                                           **weights)
     seconds = time.perf_counter() - start
     io.write_mesh(args.output, result.V, result.Q)
     report = result.report
     if args.picture:
         name = Path(args.input).name
-        field = quadrangulation.cross_field(V, F, align=align, sharp_angle=args.sharp_angle, curvature_weight=weight)
+        field = quadrangulation.cross_field(V, F, align=align, sharp_angle=args.sharp_angle, **weights)
         pictures = [quadrangulation.field_picture(V, F, field, size=PANEL,
                                                   title=f"{name}: cross field (before merging)"),
                     render.render(V, F, size=PANEL, uv=result.UV, checker_size=1.0, wireframe=False,
@@ -170,8 +172,10 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
     parser.add_argument("--sharp-angle", type=number(0, 180, open_low=True, open_high=True), metavar="DEG",
                         help="edges sharper than DEG degrees become quad edges")
     parser.add_argument("--curvature-weight", type=number(0, 1e6), default=None, metavar="W",
-                        help="miq: the field's pull to the principal curvature directions (default 0.001; "
-                             "0.03 makes quads follow CAD creases without --sharp-angle)")
+                        help="miq: the field's pull to the principal curvature directions (default 0.001)")
+    parser.add_argument("--crease-weight", type=number(0, 1e6), default=None, metavar="W",
+                        help="miq: the field's pull along edges where the surface folds (default 0.2, "
+                             "which makes quads follow CAD creases without --sharp-angle; 0: none)")
     parser.add_argument("--refine", type=integer(0, 3), default=0, metavar="K",
                         help="dual-loops: split the mesh 1-to-4 K times before tracing (loops between "
                              "neighbouring singularities)")

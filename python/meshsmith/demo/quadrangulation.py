@@ -49,14 +49,17 @@ def stage_quadrangulation(context: DemoContext) -> Section:
     except InputError as error:
         figures["dual loops skipped"] = str(error)
     else:
+        panels = [field_picture(layout.V_traced, layout.F_traced, layout.theta, size=(480, 420),
+                                title=f"{len(layout.singular_vertices)} singularities after merging"),
+                  regions_picture(layout.V_traced, layout.F_traced, layout.region, size=(480, 420),
+                                  marked=layout.Vq_vertex,
+                                  title=f"{layout.report.loops} loops, {layout.report.regions} regions")]
+        if len(layout.Q):   # no quad when no two loops crossed (decimated-knight): the report says why
+            panels.append(render.render(layout.Vq, layout.Q, size=(480, 420), title=f"{len(layout.Q)} layout quads"))
+        else:
+            figures["dual loops failure"] = layout.report.failure
         loops_name = "dual_loops.png"
-        render.save_png(np.concatenate([
-            field_picture(layout.V_traced, layout.F_traced, layout.theta, size=(480, 420),
-                          title=f"{len(layout.singular_vertices)} singularities after merging"),
-            regions_picture(layout.V_traced, layout.F_traced, layout.region, size=(480, 420),
-                            marked=layout.Vq_vertex, title=f"{layout.report.loops} loops, {layout.report.regions} regions"),
-            render.render(layout.Vq, layout.Q, size=(480, 420), title=f"{len(layout.Q)} layout quads")], axis=1),
-            context.out / loops_name)
+        render.save_png(np.concatenate(panels, axis=1), context.out / loops_name)
         figures.update({"dual loops": layout.report.loops, "dual-loop layout quads": len(layout.Q),
                         "dual-loop layout complete": layout.report.complete})
         images.append((loops_name, "the dual loops' regions (one colour each, the layout vertices marked) and the "

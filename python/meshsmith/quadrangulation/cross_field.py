@@ -66,7 +66,7 @@ FieldLike = Union[CrossField, ArrayLike]
 
 @_arguments.real_options
 def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constraints: object = None,
-                sharp_angle: float | None = None, curvature_weight: float = 1e-3,
+                sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float = 0.2,
                 rounding: str = "none", progress: ProgressCallback = None) -> CrossField:
     """A smooth cross field on a triangle mesh (§5.2.2 step 1; Bommes et al. 2009, in the
     power-4 representation of Knöppel et al. 2013).
@@ -80,7 +80,14 @@ def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constra
     (a soft term of weight ``curvature_weight`` against the smoothness term; the default 1e-3 keeps
     noisy principal directions from adding singularities: at 1e-2 bumpy-cube had 104 instead of
     56) and the boundary (hard); where no face is
-    anisotropic (a sphere) the smoothest field; ``"boundary"`` — the boundary (hard), smooth
+    anisotropic (a sphere) the smoothest field — and, with ``crease_weight`` (default 0.2), along
+    the edges where the surface folds: each interior edge pulls its two faces' crosses towards its
+    direction with weight crease_weight · w_e · (1 − cos β), β its dihedral angle (the extrinsic
+    misfit of a cross bent across the fold, as in Instant Meshes); a face's pulls count where they
+    agree (summed as power-4 numbers, at least 0.02 before the weight), so smooth parts and
+    isotropic tessellations (an icosphere keeps its 8 cones) are left to smoothness while CAD
+    creases are followed (fandisk: 97% of the faces at edges folding more than 40° within 5° of
+    the edge, 79% with crease_weight=0); ``"boundary"`` — the boundary (hard), smooth
     inside; ``"smooth"`` — the smoothest field, boundary ignored.
     constraints: None or a pair ``(faces, directions)``: (k,) face indices and (k, 3) vectors,
     one direction of each listed face's cross (projected into the face plane; hard).
@@ -98,7 +105,8 @@ def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constra
     angles solved with every jump fixed; when that E is above ``"resolve"``'s, the ``"resolve"``
     field is returned. Neither raises E above the power-4 field's; hard constraints stay exact.
     Returns a :class:`CrossField` (unpacks as ``theta, directions``).
-    Raises InputError for non-manifold, unoriented or multi-component input, zero-area or
+    Raises InputError for a negative or non-finite curvature_weight or crease_weight, for
+    non-manifold, unoriented or multi-component input, zero-area or
     repeated-index faces (clean it first: :func:`meshsmith.repair.clean`, ``meshsmith clean``),
     a constraint face out of range, a NaN or zero constraint direction, or an unknown align or
     rounding.
@@ -119,6 +127,7 @@ def cross_field(V: ArrayLike, F: ArrayLike, *, align: str = "curvature", constra
             raise InputError(f"cross_field: sharp_angle must be in (0, 180) degrees, got {sharp_angle}")
     out = _core.cross_field(mesh.V, mesh.F, align=align, sharp_angle=angle, constraint_faces=faces,
                             constraint_directions=directions, curvature_weight=curvature_weight,
+                            crease_weight=crease_weight,
                             rounding=rounding, progress=progress)
     edges = mesh.vertex_map[out["edges"]] if mesh.removed else out["edges"]
     return CrossField(theta=out["theta"], directions=out["directions"], edges=edges,

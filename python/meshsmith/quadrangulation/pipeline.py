@@ -118,7 +118,8 @@ def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCall
 @_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
-                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, merge: bool = True,
+                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float = 0.2,
+                  merge: bool = True,
                   relax: int = 30, rounding: str = "none", smooth: int = SMOOTH_ROUNDS,
                   progress: ProgressCallback = None) -> Quadrangulation:
     """Quadrangulate a triangle mesh: a smooth cross field, its mixed-integer seamless
@@ -131,13 +132,18 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     (twice the mean triangle side). align, sharp_angle: as :func:`cross_field` ("curvature",
     "boundary" or "smooth"; feature edges above sharp_angle degrees are followed); rounding: the
     cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
-    curvature_weight: the pull of the principal curvature directions against the field's
-    smoothness (align="curvature"; as :func:`cross_field`). Measured at 3,000 quads (2026-12-04,
-    the mesh as read and with three 1e-9 perturbations): at 0.025–0.03 quads follow CAD-like
-    creases without sharp_angle — fandisk's mean |angle − 90°| 7.98° → 4.7–6.4° (QuadriFlow
-    6.72°), rocker-arm 7.04° → 4.8–5.3°, fertility 6.24° → 5.2–5.4° — but spot's minimum scaled
-    Jacobian falls from 0.27 to 0.001–0.04, kitten's angle rises 6.15° → 7.1–7.3° and pmp-bunny
-    keeps 44–48 irregular vertices instead of 30 (QuadriFlow 56); so the default stays 1e-3.
+    curvature_weight, crease_weight: the pull of the principal curvature directions and of the
+    edges where the surface folds against the field's smoothness (align="curvature"; as
+    :func:`cross_field`). Measured at 3,000 quads (2026-12-04; the mesh as read and with three 1e-9
+    perturbations), crease_weight 0 → 0.2 (the default): mean |angle − 90°| fandisk 6.61–7.98° →
+    5.95–6.29° (QuadriFlow 6.72°), spot 5.23–5.49° → 4.78°, kitten 5.89–6.15° → 5.37–5.62°,
+    rocker-arm 7.04–7.44° → 5.50°, fertility 6.24° → 5.73°, pmp-bunny 7.01° → 5.02°, with as many
+    irregular vertices (±2); at 0.1 fandisk stays at 6.43–6.92°. On meshes whose folds are
+    decimation or scan noise it costs: decimated-max 4.66–4.74° and 18–22 irregular → 5.49–6.16°
+    and 30–44 (QuadriFlow 9.59°, 30), nefertiti-lowres 4.77–5.36° → 7.20° (QuadriFlow 9.98°),
+    camelhead 4.30° → 6.78°; pass crease_weight=0 there. A stronger curvature_weight
+    (0.025–0.03) was the way to follow creases before the crease term, at a cost elsewhere (spot's
+    minimum scaled Jacobian 0.27 → 0.001–0.04, measured with crease_weight=0).
     merge: cancel or separate singularity pairs closer than about a quad edge before MIQ
     (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (4 quad edges
     down to 0.5: the longest merge that does not fold leaves the fewest irregular vertices) until MIQ leaves no flipped triangle, and keeping the attempt with the fewest. With sharp_angle, MIQ first holds
@@ -175,6 +181,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     # the stages share one checked mesh, its face frames and adjacency (one build instead of a dozen)
     with _core.shared_field_mesh():
         field = cross_field(V, F, align=align, sharp_angle=sharp_angle, curvature_weight=curvature_weight,
+                            crease_weight=crease_weight,
                             rounding=rounding, progress=_stage(progress, 0.0, 0.15))
         length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
         fixed = _feature_faces(V, F, field, sharp_angle)
