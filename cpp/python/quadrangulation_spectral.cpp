@@ -78,6 +78,8 @@ void bind_quadrangulation_spectral(py::module_& m) {
     out["traced_faces"] = r.traced_faces;
     out["cancelled_extrema"] = r.cancelled_extrema;
     out["simplification_rounds"] = r.simplification_rounds;
+    out["cancelled_two_cell_extrema"] = r.cancelled_two_cell_extrema;
+    out["two_cell_extrema"] = r.two_cell_extrema;
     out["coupled"] = r.coupled;
     out["flipped_before"] = r.flipped_before;
     out["flipped_after"] = r.flipped_after;

@@ -1417,16 +1417,22 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
   // are subdivided without tracing): its quads when a complex there is complete and maps, else
   // nothing (last_problem says why); `deferred` when it was still stuck at last_level < 2, so a
   // deeper level might complete it.
-  const auto attempt = [&](Eigen::Index index, int first_level, int last_level,
-                           bool& deferred) -> std::optional<SpectralQuadrangulation> {
+  //
+  // `keep` (null: keep_for(index)) are the extrema kept by the simplification; `cancellations`
+  // counts the rounds of two-cell cancellation made before this call (see below).
+  std::function<std::optional<SpectralQuadrangulation>(Eigen::Index, int, int, bool&, const std::vector<char>*, int)>
+      attempt;
+  attempt = [&](Eigen::Index index, int first_level, int last_level, bool& deferred,
+                const std::vector<char>* keep, int cancellations) -> std::optional<SpectralQuadrangulation> {
     deferred = false;
+    if (keep == nullptr) keep = &keep_for(index);
     Eigen::VectorXd function = eigen.vectors.col(index);
     Eigen::VectorXi before_type, before_multiplicity;
     classify(rings, function, before_type, before_multiplicity);
     const Eigen::Index extrema_before =
         (before_type.array() == static_cast<int>(CriticalType::maximum)).count() +
         (before_type.array() == static_cast<int>(CriticalType::minimum)).count();
-    const int rounds = simplify_to(rings, function, keep_for(index));
+    const int rounds = simplify_to(rings, function, *keep);
     Surface S = star_split(Surface{V, FaceMatrix(F), function});
     for (int level = 0; level < first_level; ++level) S = star_split(subdivide(S));
     for (int level = first_level;; ++level) {
@@ -1446,8 +1452,35 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         }
         if (C.complete()) break;
       }
+      // An extremum that only two lines reach is a corner of two cells, each with an angle of
+      // about 180° there that its map puts on a 90° corner of the square: the quads at it fold.
+      // Such extrema are cancelled (dropped from the kept extrema, so the simplification removes
+      // each with a saddle next to it) and the complex traced again at this level, while that
+      // completes and maps (at most three rounds; otherwise this complex is kept).
+      Eigen::Index two_cell = 0;
+      if (C.complete()) {
+        std::vector<int> lines_at(T.V.rows(), 0);
+        for (const auto& line : C.lines) ++lines_at[line.back()];
+        std::vector<char> fewer = *keep;
+        Eigen::Index maxima_left = C.maxima, minima_left = C.minima, dropped = 0;
+        for (Eigen::Index v = 0; v < n; ++v) {
+          if (lines_at[v] != 2) continue;
+          ++two_cell;
+          const bool maximum = C.vertex_type[v] == static_cast<int>(CriticalType::maximum);
+          Eigen::Index& left = maximum ? maxima_left : minima_left;
+          if (cancellations < 3 && rounds >= 0 && fewer[v] && left > 1) fewer[v] = 0, --left, ++dropped;
+        }
+        if (dropped > 0) {
+          bool still_stuck = false;
+          if (auto fewer_cells = attempt(index, level, level, still_stuck, &fewer, cancellations + 1)) {
+            fewer_cells->cancelled_two_cell_extrema += dropped;
+            return fewer_cells;
+          }
+        }
+      }
       if (C.complete()) {
         SpectralQuadrangulation out;
+        out.two_cell_extrema = two_cell;
         const LineCounts counts = line_counts(T, C, h, quads);
         CoupledStats coupled;
         if (options.coupled) out = coupled_grid(T, C, counts, progress.subrange(0.65, 0.9), coupled);
@@ -1522,14 +1555,14 @@ SpectralQuadrangulation spectral_quadrangulate(const VertexRef& input_V, const F
         rank == 0 || 10 * deviation(index) <= 10 * deviation(candidates.front()) + cells[candidates.front()];
     ++tried;
     bool deferred = false;
-    if (auto out = attempt(index, 0, full_depth ? 2 : 0, deferred)) return std::move(*out);
+    if (auto out = attempt(index, 0, full_depth ? 2 : 0, deferred, nullptr, 0)) return std::move(*out);
     if (deferred) deferred_candidates.push_back(index);
   }
   for (int level = 1; level <= 2; ++level) {
     std::vector<Eigen::Index> still_stuck;
     for (const Eigen::Index index : deferred_candidates) {
       bool deferred = false;
-      if (auto out = attempt(index, level, level, deferred)) return std::move(*out);
+      if (auto out = attempt(index, level, level, deferred, nullptr, 0)) return std::move(*out);
       if (deferred) still_stuck.push_back(index);
     }
     deferred_candidates.swap(still_stuck);

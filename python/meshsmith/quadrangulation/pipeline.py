@@ -14,7 +14,7 @@ from .._typing import ArrayLike, FloatArray, IndexArray, ProgressCallback
 from .cross_field import CrossField, cross_field, merge_singularities, singularities
 from .extraction import QuadExtractionReport, extract_quads
 from .miq import grid_length, miq
-from .quality import corner_measures, quad_quality
+from .quality import corner_jacobians, corner_measures, quad_quality
 
 __all__ = ["QuadrangulationReport", "Quadrangulation", "quadrangulate"]
 
@@ -279,14 +279,15 @@ def _remove_doublets(Vq: FloatArray, Q: IndexArray) -> tuple[FloatArray, IndexAr
 RELAX_BELOW = 0.2
 
 
-def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: int) -> tuple[FloatArray, int]:
+def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: int,
+           shrink: bool = True) -> tuple[FloatArray, int]:
     """Moves the corners of the quads with scaled Jacobian < RELAX_BELOW, and their one ring,
     towards the mean of their quad-edge neighbours within the input's tangent plane there (the
     move's component along the normal of the input face under the vertex removed, so thin tips
     such as pmp-bunny's ears do not shrink), then onto the surface (V, F); `rounds` times, the
     region regrown each round. Where that leaves an inverted quad (scaled Jacobian <= 0), up to
     `rounds` more rounds move the vertices the whole way to the mean, from the best round so far
-    (this shrinks tips, but untangles folds the tangent moves cannot). Returns the positions of the best round (largest minimum scaled
+    (this shrinks tips, but untangles folds the tangent moves cannot; not with ``shrink=False``). Returns the positions of the best round (largest minimum scaled
     Jacobian) and how many vertices that moved; a round that makes a quad degenerate (two corners
     projected onto one point) ends the relaxation at the best earlier round."""
     from ..geometry import face_normals
@@ -305,7 +306,7 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
     best, best_jacobian = Vq, float(quad_quality(Vq, Q).scaled_jacobian.min())
     moved = np.zeros(len(Vq), dtype=bool)
     best_moved = 0
-    for tangential in (True, False):
+    for tangential in (True, False) if shrink else (True,):
         if not tangential and best_jacobian > 0:
             break
         P = best.copy()
@@ -338,6 +339,132 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
             if now > best_jacobian:
                 best, best_jacobian, best_moved = P, now, int(moved.sum())
     return best, best_moved
+
+
+#: Trial moves of the untangling (:func:`_untangle`): directions in the tangent plane, and step
+#: lengths as fractions of the vertex's mean quad-edge length.
+UNTANGLE_DIRECTIONS = 12
+UNTANGLE_STEPS = (0.05, 0.15, 0.35, 0.7)
+
+#: The untangling's objective counts every incident quad whose scaled Jacobian is below this.
+UNTANGLE_MARGIN = 0.1
+
+
+#: The untangling also tries this many of the input's face centroids nearest each vertex.
+UNTANGLE_CENTROIDS = 16
+
+
+def _untangle(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, surface: Any,
+              rounds: int) -> tuple[FloatArray, int]:
+    """Untangles a closed quad mesh on a surface: moves the corners of inverted quads (scaled
+    Jacobian <= 0) one at a time to the best of a few trial points on the surface around them.
+
+    Vq: (k, 3) float64, Q: (q, 4) int64 counter-clockwise; V, F: the input surface, surface: its
+    SurfaceDistance. Each round takes the corners of the inverted quads, worst first, as far as
+    they share no quad (so their moves are independent), and tries for each its current position,
+    UNTANGLE_DIRECTIONS × len(UNTANGLE_STEPS) points in the input's tangent plane there (steps
+    relative to its mean quad-edge length) projected onto the surface (closest point), and the
+    UNTANGLE_CENTROIDS input face centroids nearest it (points the projection cannot reach: near a
+    sharp convex vertex of the input every nearby point projects onto that vertex, where two quad
+    corners may already sit together); it keeps the trial that maximizes the smallest scaled Jacobian of its
+    quads plus Σ min(J − UNTANGLE_MARGIN, 0) over them (so a move that frees one quad without
+    worsening the worst still counts), when that beats staying. A vertex that found nothing better
+    is not tried again until a neighbour moves; when every corner of an inverted quad is such, their
+    one ring is tried as well, and when that too finds nothing it ends. Stops when no quad is
+    inverted, or after `rounds` rounds. A vertex in two quads only (a valence-2 vertex between two quads that
+    share both its edges) has corners near 180° there that no move makes convex on a flat
+    surface. Returns (positions, how many vertices moved)."""
+    from scipy.spatial import cKDTree
+
+    from ..geometry import face_normals
+
+    P = np.array(Vq, dtype=np.float64, copy=True)
+    n = len(P)
+    if not len(Q):
+        return P, 0
+    points, triangles = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    face_normal = face_normals(points, triangles)
+    centroids = points[triangles].mean(axis=1)
+    centroid_tree = cKDTree(centroids)
+    nearby = min(UNTANGLE_CENTROIDS, len(centroids))
+    face = surface.closest_points(P).face
+    # the quads at each vertex, padded with -1
+    valence = np.bincount(Q.ravel(), minlength=n)
+    order = np.argsort(Q.ravel(), kind="stable")
+    start = np.concatenate([[0], np.cumsum(valence)])
+    owner = Q.ravel()[order]
+    incident = np.full((n, int(valence.max())), -1, dtype=np.int64)
+    incident[owner, np.arange(len(order)) - start[owner]] = order // 4
+    edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
+    angles = np.linspace(0.0, 2.0 * np.pi, UNTANGLE_DIRECTIONS, endpoint=False)
+    directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    steps = np.repeat(np.asarray(UNTANGLE_STEPS, dtype=np.float64), UNTANGLE_DIRECTIONS)
+    moved = np.zeros(n, dtype=bool)
+    stale = np.zeros(n, dtype=bool)     # tried without a better trial since its quads last changed
+    grow = False
+    for _ in range(rounds):
+        jacobian = corner_jacobians(P[Q]).min(axis=1)
+        inverted = jacobian <= 0
+        if not inverted.any():
+            break
+        region = np.zeros(n, dtype=bool)
+        region[Q[inverted].ravel()] = True
+        if grow:
+            region[Q[region[Q].any(axis=1)].ravel()] = True
+        vertices = np.flatnonzero(region & ~stale)
+        if not len(vertices):
+            if grow:
+                break
+            grow = True
+            continue
+        local = np.where(incident[vertices] >= 0, jacobian[incident[vertices]], np.inf).min(axis=1)
+        taken = np.zeros(len(Q), dtype=bool)
+        picked = []
+        for v in vertices[np.argsort(local, kind="stable")]:
+            quads = incident[v, :valence[v]]
+            if not taken[quads].any():
+                taken[quads] = True
+                picked.append(v)
+        chosen = np.asarray(picked, dtype=np.int64)
+        k = len(chosen)
+        # trial points in the input's tangent plane at each chosen vertex
+        normal = face_normal[face[chosen]]
+        helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        first = np.cross(normal, helper)
+        first /= np.linalg.norm(first, axis=1, keepdims=True)
+        second = np.cross(normal, first)
+        length = np.linalg.norm(P[edges[:, 0]] - P[edges[:, 1]], axis=1)
+        mean_length = (np.bincount(edges.ravel(), np.concatenate([length, length]), minlength=n)
+                       / np.maximum(np.bincount(edges.ravel(), minlength=n), 1))[chosen]
+        offsets = (np.tile(directions, (len(UNTANGLE_STEPS), 1)) * steps[:, None])          # (t, 2)
+        trial = (P[chosen][:, None, :] + mean_length[:, None, None]
+                 * (offsets[None, :, :1] * first[:, None, :] + offsets[None, :, 1:] * second[:, None, :]))
+        trial = surface.closest_points(trial.reshape(-1, 3)).point.reshape(k, -1, 3)
+        _, near = centroid_tree.query(P[chosen], k=nearby)
+        near = np.asarray(near).reshape(k, nearby)
+        trial = np.concatenate([P[chosen][:, None, :], trial, centroids[near]], axis=1)     # trial 0: stay
+        # each trial's quads: (k, trials, valence, 4, 3)
+        quads = incident[chosen]
+        present = quads >= 0
+        corners = Q[np.maximum(quads, 0)]                                                    # (k, d, 4)
+        C = np.broadcast_to(P[corners][:, None], (k, trial.shape[1]) + corners.shape[1:] + (3,)).copy()
+        at_vertex = np.broadcast_to((corners == chosen[:, None, None])[:, None, :, :, None], C.shape)
+        C = np.where(at_vertex, trial[:, :, None, None, :], C)
+        J = corner_jacobians(C).min(axis=-1)                                                 # (k, trials, d)
+        score = (np.where(present[:, None], J, np.inf).min(axis=-1)
+                 + np.where(present[:, None], np.minimum(J - UNTANGLE_MARGIN, 0.0), 0.0).sum(axis=-1))
+        best = score.argmax(axis=1)
+        better = score[np.arange(k), best] > score[:, 0] + 1e-12
+        stale[chosen[~better]] = True
+        if better.any():
+            grow = False
+            winners = chosen[better]
+            P[winners] = trial[np.arange(k), best][better]
+            face[winners] = surface.closest_points(P[winners]).face
+            moved[winners] = True
+            around = incident[winners]
+            stale[Q[around[around >= 0]].ravel()] = False
+    return P, int(moved.sum())
 
 
 def _feature_faces(V: ArrayLike, F: ArrayLike, field: CrossField, sharp_angle: float | None) -> IndexArray | None:
@@ -374,8 +501,9 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
     neighbours, less that move's component along the vertex normal (area-weighted quad
     normals), then onto the input surface (closest point). Fixed: boundary vertices and the ends
     of quad edges whose two quads meet at more than `sharp_degrees` (creases the quads follow).
-    A quad whose scaled Jacobian falls below the mesh's previous minimum has its corners put back
-    (repeated until none does, at most ten times), so the minimum scaled Jacobian never drops. Rounds stop at the first that does not lower the mean |angle − 90°|
+    A quad whose scaled Jacobian falls below the mesh's previous minimum, or to 0 or below from
+    above 0, has its corners put back (repeated until none does, at most ten times), so the
+    minimum scaled Jacobian never drops and no quad becomes inverted. Rounds stop at the first that does not lower the mean |angle − 90°|
     (at most `rounds`). Returns (positions, how many vertices moved)."""
     edge_list = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
     unique, inverse, counts = np.unique(edge_list, axis=0, return_inverse=True, return_counts=True)
@@ -443,7 +571,7 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
                 measured = None
                 break
             measured = angles, now
-            bad = now < floor
+            bad = (now < floor) | ((now <= 0) & (jacobian > 0))   # with floor <= 0: no new inverted quad
             if not bad.any() or attempt == 10:
                 break
             corners = Q[bad].ravel()

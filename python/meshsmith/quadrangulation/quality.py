@@ -76,8 +76,23 @@ def corner_measures(points: FloatArray, quads: IndexArray) -> tuple[FloatArray, 
     back_lengths = np.roll(lengths, 1, axis=1)
     cosine = np.einsum("kcd,kcd->kc", forward, backward) / (lengths * back_lengths)
     angles = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
-    normal = np.cross(P, np.roll(P, -1, axis=1)).sum(axis=1)   # Newell: twice the vector area
-    norm = np.linalg.norm(normal, axis=1, keepdims=True)
-    normal = np.divide(normal, norm, out=np.zeros_like(normal), where=norm > 0)
-    jacobian = np.einsum("kcd,kd->kc", np.cross(forward, backward), normal) / (lengths * back_lengths)
+    jacobian = corner_jacobians(P, forward, backward, lengths * back_lengths)
     return angles, jacobian.min(axis=1) if len(quads) else np.zeros(0), lengths
+
+
+def corner_jacobians(P: FloatArray, forward: FloatArray | None = None, backward: FloatArray | None = None,
+                     length_products: FloatArray | None = None) -> FloatArray:
+    """The scaled Jacobian of every corner of quads given by their corners, P (..., 4, 3) float64:
+    (e_next × e_prev)·n / (|e_next| |e_prev|), n the quad's (Newell) unit normal; returns (..., 4).
+    forward, backward (P[c+1] − P[c], P[c−1] − P[c]) and the products of their lengths may be passed
+    when known. A corner with a zero-length edge gets −1 (the worst value), so that a batch of
+    trial positions (the untangling after :func:`spectral_quadrangulate`) can be measured at once."""
+    if forward is None or backward is None or length_products is None:
+        forward = np.roll(P, -1, axis=-2) - P
+        backward = np.roll(P, 1, axis=-2) - P
+        length_products = np.linalg.norm(forward, axis=-1) * np.linalg.norm(backward, axis=-1)
+    normal = np.cross(P, np.roll(P, -1, axis=-2)).sum(axis=-2)   # Newell: twice the vector area
+    norm = np.linalg.norm(normal, axis=-1, keepdims=True)
+    normal = np.divide(normal, norm, out=np.zeros_like(normal), where=norm > 0)
+    numerator = np.einsum("...cd,...d->...c", np.cross(forward, backward), normal)
+    return np.divide(numerator, length_products, out=np.full_like(numerator, -1.0), where=length_products > 0)

@@ -98,6 +98,10 @@ struct SpectralQuadrangulation {
   /// simplification before the complex was traced.
   Eigen::Index cancelled_extrema = 0;
   int simplification_rounds = 0;  ///< its sweep rounds (−1: it did not converge, f was kept)
+  /// Of cancelled_extrema, those cancelled because only two lines reached them (a layout corner
+  /// of valence 2), the complex then traced again.
+  Eigen::Index cancelled_two_cell_extrema = 0;
+  Eigen::Index two_cell_extrema = 0;  ///< extrema of the complex used that only two lines reach
   bool coupled = true;            ///< the coupled map made the quads (asked for, and its extraction complete;
                                   ///< otherwise the cells were mapped one by one)
   Eigen::Index flipped_before = 0;  ///< coupled map: triangles with det ≤ 0 in (u, v) as first solved
