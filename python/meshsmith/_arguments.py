@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import inspect
-from typing import Callable, ParamSpec, TypeVar
+from typing import Any, Callable, ParamSpec, TypeVar
 
 import numpy as np
 
@@ -118,6 +118,18 @@ def report(callback: ProgressCallback, fraction: float, stage: str) -> None:
     shown = repr(answer)
     raise InputError(f"the progress callback returned {shown[:60]} ({type(answer).__name__}): expected True (go on), "
                      "False (cancel) or None")
+
+
+def stage(callback: ProgressCallback, begin: float, end: float) -> ProgressCallback:
+    """A progress callback for one stage of a longer function: it maps the stage's [0, 1] onto
+    [begin, end] of `callback` (None stays None)."""
+    if callback is None:
+        return None
+    outer: Callable[[float, str], Any] = callback
+
+    def scaled(fraction: float, name: str) -> Any:
+        return outer(begin + (end - begin) * fraction, name)
+    return scaled
 
 
 def finite(array: FloatArray, name: str) -> FloatArray:

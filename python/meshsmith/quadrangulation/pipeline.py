@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -104,17 +104,6 @@ class Quadrangulation(Unpackable):
     field: CrossField
 
 
-def _stage(progress: ProgressCallback, begin: float, end: float) -> ProgressCallback:
-    """A callback for one stage that maps its [0, 1] onto [begin, end] of `progress`."""
-    if progress is None:
-        return None
-    callback: Callable[[float, str], Any] = progress
-
-    def report(fraction: float, stage: str) -> Any:
-        return callback(begin + (end - begin) * fraction, stage)
-    return report
-
-
 @_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
@@ -182,7 +171,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     with _core.shared_field_mesh():
         field = cross_field(V, F, align=align, sharp_angle=sharp_angle, curvature_weight=curvature_weight,
                             crease_weight=crease_weight,
-                            rounding=rounding, progress=_stage(progress, 0.0, 0.15))
+                            rounding=rounding, progress=_arguments.stage(progress, 0.0, 0.15))
         length = grid_length(V, F, target_edge_length, target_faces, "quadrangulate")
         fixed = _feature_faces(V, F, field, sharp_angle)
         # With features, first with their iso-line constraints, then (if every attempt folds) without.
@@ -197,7 +186,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
             begin = 0.15 + 0.7 * attempt / len(plans)
             param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
                         target_quads=target_faces, sharp_angle=features,
-                        progress=_stage(progress, begin, begin + 0.7 / len(plans)))
+                        progress=_arguments.stage(progress, begin, begin + 0.7 / len(plans)))
             attempts += 1
             if best is None or param.flipped_after < best[1].flipped_after:
                 best = (trial, param, factor * length)
@@ -206,7 +195,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         assert best is not None
         field, param, merge_distance = best
         singular = singularities(V, F, field)
-    quads = extract_quads(V, F, param.UV, progress=_stage(progress, 0.85, 1.0))
+    quads = extract_quads(V, F, param.UV, progress=_arguments.stage(progress, 0.85, 1.0))
     Vq, Q, doublets = _remove_doublets(quads.V, quads.Q)
     extracted_jacobian, relaxed = float("nan"), 0
     if len(Q):
