@@ -35,6 +35,8 @@ Dual-loop layouts (§5.3, `dual_loop_layout`, no peer on PyPI): the torus (48×1
 cross field (computed once, outside the timing), default spacing; printed: loops, crossings
 (= coarse quads), regions (= layout vertices), regions left with several singularities, whether
 the layout is complete; spot again with parallel crossings allowed (parallel_crossing_penalty=4).
+Each is one attempt on the field as it is (merge=0, refine=0, max_failed_seeds=2000: the defaults
+before dual_loop_layout's schedule of attempts), so the figures stay comparable.
 Checks: the torus layout complete with every layout vertex of valence 4; every region of spot a
 disk; with parallel crossings, spot's layout a manifold with χ = 2.
 """
@@ -295,7 +297,9 @@ def dual_loop_cases():
         field = cross_field(V, F, **options)
         crossing = "" if penalty is None else f", parallel crossings at cost {penalty:g}"
         bench = Benchmark("quadrangulation", f"dual_loop_layout {name} ({len(F):,} F{crossing})", repeats=3)
-        bench.time("meshsmith", lambda: dual_loop_layout(V, F, field, parallel_crossing_penalty=penalty))
+        bench.time("meshsmith", lambda: dual_loop_layout(
+            V, F, field, merge=0.0, refine=0, max_failed_seeds=2000,
+            parallel_crossing_penalty=np.inf if penalty is None else penalty))
         bench.report()
         layout = bench.output("meshsmith")
         report = layout.report

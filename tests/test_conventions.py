@@ -287,6 +287,8 @@ RESULTS = {
     "quadrangulation.dual_loop_layout report": (
         lambda tmp: quadrangulation.dual_loop_layout(*datasets.icosphere(2), quadrangulation.cross_field(*datasets.icosphere(2))).report,
         [field.name for field in dataclasses.fields(quadrangulation.DualLoopReport)]),
+    "quadrangulation.DualLoopAttempt": (lambda tmp: quadrangulation.DUAL_LOOP_SCHEDULE[0],
+                                        ["merge", "refine", "parallel_crossing_penalty", "max_failed_seeds"]),
     "quadrangulation.refine_field": (
         lambda tmp: quadrangulation.refine_field(*datasets.icosphere(1), np.zeros(80)), ["V", "F", "theta", "parent"]),
     "reconstruction.marching_cubes": (lambda tmp: meshsmith.reconstruction.marching_cubes(ball_grid()),

@@ -3,6 +3,8 @@ one singularity, and the arrangement's dual as a manifold quad layout with the i
 characteristic — on a sphere, a torus, a cube-like shape and spot — checked independently of the
 C++ report (loops as edge paths, regions by a face flood fill here, the layout's topology with
 meshsmith.topology), and bad input."""
+import math
+
 import numpy as np
 import pytest
 from scipy.sparse import coo_matrix
@@ -10,10 +12,14 @@ from scipy.sparse.csgraph import connected_components
 
 import meshsmith
 from meshsmith import cli, datasets, io, render, repair, topology
-from meshsmith.quadrangulation import (CrossField, cross_field, dual_loop_layout, field_glyphs,
+from meshsmith.quadrangulation import (DUAL_LOOP_SCHEDULE, CrossField, cross_field, dual_loop_layout, field_glyphs,
                                        field_picture, refine_field, regions_picture, singularities)
 from meshsmith.quadrangulation.dual_loops import _face_directions as face_directions
 from meshsmith.quadrangulation.pictures import CONE_VALUES, FIELD_COLORMAP
+
+
+#: One attempt on the field as it is: what dual_loop_layout did by default before its schedule of attempts.
+UNMERGED = dict(merge=0.0, refine=0, parallel_crossing_penalty=math.inf, max_failed_seeds=2000)
 
 
 def edge_set(F):
@@ -160,7 +166,7 @@ def test_layout_pickles_and_unpacks():
     V, F = datasets.icosphere(2)
     layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"))
     loops, region, Vq, Q, report = layout
-    assert len(region) == len(F) and Vq.shape[1] == 3 and Q.shape[1] == 4
+    assert len(region) == len(layout.F_traced) and Vq.shape[1] == 3 and Q.shape[1] == 4
     again = pickle.loads(pickle.dumps(layout))
     assert np.array_equal(again.Q, layout.Q) and again.report.failure == layout.report.failure
 
@@ -198,10 +204,12 @@ def shared_layout(path, singularities, **options):
 def test_bumpy_cube_gets_a_complete_layout_with_its_eight_corners(data_dir):
     # bumpy-cube's smoothest field has 8 singularities, all of index +1 (the cube's corners; the
     # inverse iteration converges since the smooth-field fix, where it stopped at its cap with 28):
-    # the layout is complete and each corner a valence-3 layout vertex.
+    # with the defaults the first attempt (merge 1.5 keeps the 8) gives a complete layout, each
+    # corner a valence-3 layout vertex.
     V, F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=8)
     check_complete(V, F, layout)
     report = layout.report
+    assert report.attempts == 1 and report.refine == 0
     assert (layout.singular_indices == 1).all() and report.parallel_crossings == 0
     corners = report.region_corners[report.region_singularities == 1]
     assert len(corners) == 8 and (corners == 3).all()
@@ -212,7 +220,8 @@ def test_spot_reaches_disk_regions_but_not_one_singularity_each(data_dir):
     # no edge loop can pass between two adjacent vertices, so those pairs cannot be separated at
     # this resolution. Reached: every region a disk, the loops valid; not reached: one
     # singularity per region (15 regions hold more) and so not a manifold dual everywhere.
-    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52)
+    # (The defaults merge them first: see test_default_layout_is_complete_on_the_input_mesh.)
+    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52, **UNMERGED)
     report = layout.report
     assert not report.complete and report.multi_singular_regions > 0
     adjacent = edge_set(F)
@@ -231,7 +240,8 @@ def test_bumpy_cube_with_parallel_crossings_is_complete_once_the_bigon_loops_are
     # (bigons between loops of one family); dropping the loops at them keeps every region a disk
     # with at most one corner singularity (measured 2026-12-04: 5 loops, 16 quads, no parallel
     # crossing left), and the layout is complete with the 8 corners as valence-3 vertices.
-    V, F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=8, parallel_crossing_penalty=4.0)
+    V, F, layout = shared_layout(data_dir / "bumpy-cube.obj", singularities=8,
+                                 **{**UNMERGED, "parallel_crossing_penalty": 4.0})
     check_complete(V, F, layout)
     report = layout.report
     assert report.multi_singular_regions == 0 and (report.region_singularities <= 1).all()
@@ -245,7 +255,8 @@ def test_spot_with_parallel_crossings_gets_a_manifold_layout_but_keeps_adjacent_
     # On spot, allowing parallel crossings makes the dual a closed manifold quad mesh with χ = 2,
     # but the regions holding neighbouring singularities cannot be split by any edge loop: the
     # layout is still not complete, and the report says so.
-    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52, parallel_crossing_penalty=4.0)
+    _, F, layout = shared_layout(data_dir / "spot.obj", singularities=52,
+                                 **{**UNMERGED, "parallel_crossing_penalty": 4.0})
     report = layout.report
     assert report.degenerate_quads == report.non_manifold_edges == report.non_manifold_vertices == 0
     assert report.euler_layout == report.euler_input == 2
@@ -270,22 +281,34 @@ def test_refine_field_keeps_the_crosses_and_the_singularities():
 
 
 def merged_layout(path, **options):
-    """The smooth field of a shared mesh with singularities closer than 1.5 spacings merged (the CLI's
-    DUAL_LOOP_MERGE), and its layout."""
+    """The smooth field of a shared mesh with singularities closer than 1.5 spacings merged (the first
+    merge of DUAL_LOOP_SCHEDULE), and its layout."""
     V, F = repair.clean(*io.read_mesh(path))[:2]
     layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, **options)
     return V, F, layout
 
 
+def shared_mesh(data_dir, name):
+    """(V, F) of a cleaned shared mesh; the test is skipped, with the reason, where it is absent."""
+    path = data_dir / name
+    if not path.is_file():
+        pytest.skip(f"{name} is not in {data_dir}")
+    return repair.clean(*io.read_mesh(path))[:2]
+
+
 @pytest.mark.parametrize("name, quads", [("spot.obj", 58), ("fandisk.obj", 62)])
-def test_merged_field_gives_a_complete_layout_on_real_meshes(data_dir, name, quads):
-    # Merging the smooth field's singularities within 1.5 loop spacings (spot 52 -> 8, fandisk 32 -> 8)
-    # leaves the 8 index +1 cones a genus-0 surface needs at least (Poincaré–Hopf): every region a
-    # disk with at most one of them, the dual a closed manifold quad layout with χ = 2, its valence-3
-    # vertices exactly the 8 cones' regions and all others valence 4.
-    V, F, layout = merged_layout(data_dir / name)
+def test_default_layout_is_complete_on_the_input_mesh(data_dir, name, quads):
+    # With the defaults the first attempt of the schedule merges the smooth field's singularities
+    # within 1.5 loop spacings (spot 52 -> 8, fandisk 32 -> 8) and traces on the input mesh without
+    # parallel crossings. That leaves the 8 index +1 cones a genus-0 surface needs at least
+    # (Poincaré–Hopf): every region a disk with at most one of them, the dual a closed manifold quad
+    # layout with χ = 2, its valence-3 vertices exactly the 8 cones' regions and all others valence 4.
+    V, F = shared_mesh(data_dir, name)
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"))
     check_complete(V, F, layout)
     report = layout.report
+    assert report.attempts == 1 and report.merge == 1.5 and report.refine == 0
+    assert math.isinf(report.parallel_crossing_penalty) and report.parallel_crossings == 0
     assert len(layout.singular_vertices) == 8 and (layout.singular_indices == 1).all()
     assert (report.region_singularities <= 1).all() and report.euler_layout == 2
     valence = np.bincount(layout.Q.ravel(), minlength=report.regions)
@@ -326,6 +349,10 @@ def test_bad_input():
         dual_loop_layout(V, F, theta, max_deviation=95.0)
     with pytest.raises(meshsmith.InputError, match="parallel_crossing_penalty"):
         dual_loop_layout(V, F, theta, parallel_crossing_penalty=-1.0)
+    with pytest.raises(meshsmith.InputError, match="parallel_crossing_penalty"):
+        dual_loop_layout(V, F, theta, parallel_crossing_penalty=math.nan)
+    with pytest.raises(meshsmith.InputError, match="max_failed_seeds"):
+        dual_loop_layout(V, F, theta, max_failed_seeds=-1)
     with pytest.raises(meshsmith.InputError, match="max_loops"):
         dual_loop_layout(V, F, theta, max_loops=0)
     with pytest.raises(meshsmith.InputError, match="CrossField"):
@@ -437,6 +464,47 @@ def test_command_line_dual_loops_writes_the_layout_and_its_pictures(tmp_path, ca
     assert cli.main(["quadrangulate", str(path), "-o", str(out), "--refine", "1"]) == 2   # dual-loops only
 
 
+@pytest.mark.parametrize("name, euler, attempts", [("kitten.off", 0, 2), ("fertility.off", -6, 2)])
+def test_command_line_dual_loops_completes_kitten_and_fertility(data_dir, tmp_path, capsys, name, euler, attempts):
+    # Issue 15 part 7: with the command's defaults (before the schedule: merge 1.5, no refinement, no
+    # parallel crossings) kitten's and fertility's layouts were not complete (3 and 13 quads with
+    # regions holding 2-14 singularities). The schedule's second attempt (split 1-to-4, parallel
+    # crossings at 4) completes both: the written layout is a closed manifold quad mesh with the
+    # input's χ.
+    V, F = shared_mesh(data_dir, name)
+    path, out = tmp_path / name, tmp_path / "layout.obj"
+    io.write_mesh(path, V, F)
+    assert cli.main(["quadrangulate", str(path), "-o", str(out), "--method", "dual-loops"]) == 0
+    text = capsys.readouterr().out
+    assert "(complete)" in text and "incomplete" not in text
+    assert f"attempts                   {attempts} (this one: merge 1.5 spacings, refine 1, " \
+           "parallel crossings at 4 x spacing)" in text
+    Vq, P = io.read_mesh(out, triangulate=False)
+    check_closed_quad_mesh(P.to_array(), len(Vq), euler)
+
+
+def test_schedule_holds_the_given_options_and_stops_at_the_first_complete_attempt():
+    V, F = datasets.icosphere(1)
+    field = cross_field(V, F, align="smooth")
+    scheduled = dual_loop_layout(V, F, field)
+    report = scheduled.report
+    assert 1 <= report.attempts <= len(DUAL_LOOP_SCHEDULE)
+    kept = DUAL_LOOP_SCHEDULE[report.attempts - 1]
+    assert (report.merge, report.refine, report.parallel_crossing_penalty, report.max_failed_seeds) == tuple(kept)
+    if report.complete:      # no earlier attempt was complete
+        for attempt in DUAL_LOOP_SCHEDULE[:report.attempts - 1]:
+            assert not dual_loop_layout(V, F, field, **attempt._asdict()).report.complete
+    single = dual_loop_layout(V, F, field, **DUAL_LOOP_SCHEDULE[0]._asdict())
+    assert single.report.attempts == 1                    # every option given: one attempt
+    held = dual_loop_layout(V, F, field, refine=0, parallel_crossing_penalty=math.inf)
+    assert held.report.refine == 0 and math.isinf(held.report.parallel_crossing_penalty)
+    assert len(held.F_traced) == len(F) and held.report.parallel_crossings == 0
+    # Entries that differ only in the held options are tried once: here one per distinct merge.
+    assert held.report.attempts <= len({attempt.merge for attempt in DUAL_LOOP_SCHEDULE}) < len(DUAL_LOOP_SCHEDULE)
+    angles = dual_loop_layout(V, F, field.theta)          # not a CrossField: nothing to merge
+    assert angles.report.merge == 0.0
+
+
 def test_demo_stage_draws_the_field_and_the_dual_loop_layout(tmp_path):
     from PIL import Image
 
@@ -458,11 +526,14 @@ def test_merged_kitten_without_refinement_falls_short(data_dir):
     # direction class and the strict loops leave regions with several singularities; allowing
     # loops of one family to cross, every region is a disk but a pulled-apart pair still shares
     # one (measured 2026-12-04: strict 4 loops, 2,001 unclosed seeds; crossing 10 loops, 1 such
-    # region). Not complete either way — the refined test below is.
-    V, F, strict = merged_layout(data_dir / "kitten.off")
+    # region). Not complete either way — the refined test below is (the defaults' second attempt).
+    V, F, strict = merged_layout(data_dir / "kitten.off", refine=0, parallel_crossing_penalty=math.inf,
+                                 max_failed_seeds=2000)
     check_layout(V, F, strict)
+    assert strict.report.attempts == 1
     assert strict.report.multi_singular_regions > 0 and strict.report.seeds_unclosed > 1000 and not strict.report.complete
-    crossing = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, parallel_crossing_penalty=4.0)
+    crossing = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=1.5, refine=0,
+                                parallel_crossing_penalty=4.0, max_failed_seeds=2000)
     check_layout(V, F, crossing)
     report = crossing.report
     assert report.non_disk_regions == 0 and report.parallel_crossings > 0 and not report.complete
@@ -496,17 +567,18 @@ def test_refined_kitten_with_parallel_crossings_is_complete(data_dir):
     assert 70 <= len(layout.Q) <= 160
 
 
-def test_refined_rocker_arm_is_complete_with_a_wider_merge(data_dir):
+def test_default_rocker_arm_layout_is_complete_with_a_wider_merge(data_dir):
     # Issue 15 part 7: at merge=1.5 rocker-arm's field keeps one ±1 pair (9660/9697, neighbours;
-    # pulled apart it still shares a region). Merging at 2.5 spacings instead leaves 4 singularities
-    # (two of each sign, none neighbours) and, split 1-to-4 with parallel crossings, a complete
-    # layout (measured 2026-12-04: 7 loops, 19 quads). Not the default: at 2.5 spot and kitten keep
-    # a valence-2 vertex and fertility regions with several cones.
-    V, F = repair.clean(*io.read_mesh(data_dir / "rocker-arm.obj"))[:2]
-    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"), merge=2.5, refine=1,
-                              parallel_crossing_penalty=4.0, max_failed_seeds=300)
+    # pulled apart it still shares a region), on the input mesh and split 1-to-4. Merging at 2.5
+    # spacings instead leaves 4 singularities (two of each sign, none neighbours) and, split 1-to-4
+    # with parallel crossings, a complete layout (measured 2026-12-04: 7 loops, 19 quads): the
+    # defaults' third attempt. Not the first: at 2.5 spot and kitten keep a valence-2 vertex and
+    # fertility regions with several cones.
+    V, F = shared_mesh(data_dir, "rocker-arm.obj")
+    layout = dual_loop_layout(V, F, cross_field(V, F, align="smooth"))
     check_complete(layout.V_traced, layout.F_traced, layout)
     report = layout.report
+    assert report.attempts == 3 and (report.merge, report.refine, report.parallel_crossing_penalty) == (2.5, 1, 4.0)
     assert layout.singular_indices.sum() == 0 and len(layout.singular_vertices) >= 2       # 4χ = 0
     assert (report.region_singularities <= 1).all() and report.euler_layout == report.euler_input == 0
     assert (report.region_singularities == 1).sum() == len(layout.singular_vertices)

@@ -13,11 +13,8 @@ from .common import ProgressBar, UsageError, add_command, check_output, integer,
 #: --method values.
 QUADRANGULATION_METHODS = {"miq": "cross field, mixed-integer parametrization (MIQ), quad extraction",
                            "spectral": "Morse-Smale complex of a Laplacian eigenfunction, its cells coupled in one seamless map (§5.2.1)",
-                           "dual-loops": "loops along a cross field, their arrangement's dual as a coarse quad layout (§5.3)"}
-
-#: Singularities closer than this many loop spacings are merged before dual loops are traced
-#: (measured: 1.5 makes spot's and fandisk's layouts complete, 1.0 leaves spot 12 singularities).
-DUAL_LOOP_MERGE = 1.5
+                           "dual-loops": "loops along a cross field, their arrangement's dual as a coarse quad layout "
+                                         "(§5.3; up to 5 option sets tried in turn until the layout is complete)"}
 
 
 def command_quadrangulate(args: argparse.Namespace) -> int:
@@ -26,7 +23,7 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
         check_output(args.picture, (".png",), "--picture")
     if args.faces is not None and args.edge_length is not None:
         raise UsageError("--faces and --edge-length are exclusive: give one")
-    if args.refine and args.method != "dual-loops":
+    if args.refine is not None and args.method != "dual-loops":
         raise UsageError("--refine is for --method dual-loops only")
     for option in ("curvature_weight", "crease_weight"):
         if getattr(args, option) is not None and args.method != "miq":
@@ -80,7 +77,7 @@ PANEL = (480, 420)
 
 
 def _dual_loops(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
-    """--method dual-loops: cross field, merged singularities, dual_loop_layout; writes the layout's quads."""
+    """--method dual-loops: cross field, dual_loop_layout with its schedule of attempts; writes the layout's quads."""
     from .. import geometry
     area = geometry.surface_area(V, F)
     if args.edge_length is not None:
@@ -91,9 +88,9 @@ def _dual_loops(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
         spacing = float(np.sqrt(area)) / 4                # dual_loop_layout's default
     start = time.perf_counter()
     field = quadrangulation.cross_field(V, F, align=args.align or "smooth", sharp_angle=args.sharp_angle)
-    # merged inside (merge_singularities, then neighbouring ±1 pairs pulled apart); layout.theta is that field
-    layout = quadrangulation.dual_loop_layout(V, F, field, spacing=spacing, merge=DUAL_LOOP_MERGE, refine=args.refine,
-                                              progress=ProgressBar())
+    # dual_loop_layout's schedule of attempts (merged singularities, refinement, parallel crossings)
+    # until one is complete; layout.theta is the field the returned attempt traced
+    layout = quadrangulation.dual_loop_layout(V, F, field, spacing=spacing, refine=args.refine, progress=ProgressBar())
     seconds = time.perf_counter() - start
     io.write_mesh(args.output, layout.Vq, layout.Q)
     report = layout.report
@@ -118,6 +115,9 @@ def _dual_loops(args: argparse.Namespace, V: np.ndarray, F: np.ndarray) -> int:
             ("regions by singularities", ", ".join(f"{k}: {c}" for k, c in enumerate(per_region.tolist()) if c)),
             ("layout valences", ", ".join(f"{k}: {c}" for k, c in enumerate(valence.tolist()) if c)),
             ("Euler characteristic", f"{report.euler_layout} (input {report.euler_input})"),
+            ("attempts", f"{report.attempts} (this one: merge {report.merge:g} spacings, refine {report.refine}, "
+                         + ("no parallel crossings" if np.isinf(report.parallel_crossing_penalty) else
+                            f"parallel crossings at {report.parallel_crossing_penalty:g} x spacing") + ")"),
             ("time", f"{seconds:.2f} s")]:
         print(f"  {key:26s} {value}")
     if not report.complete:
@@ -176,9 +176,10 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
     parser.add_argument("--crease-weight", type=number(0, 1e6), default=None, metavar="W",
                         help="miq: the field's pull along edges where the surface folds (default 0.2, "
                              "which makes quads follow CAD creases without --sharp-angle; 0: none)")
-    parser.add_argument("--refine", type=integer(0, 3), default=0, metavar="K",
-                        help="dual-loops: split the mesh 1-to-4 K times before tracing (loops between "
-                             "neighbouring singularities)")
+    parser.add_argument("--refine", type=integer(0, 3), default=None, metavar="K",
+                        help="dual-loops: split the mesh 1-to-4 K times before tracing, in every attempt (loops "
+                             "between neighbouring singularities; default: the schedule's, 0 in the first and "
+                             "last attempts, 1 in the others)")
     parser.add_argument("--picture", help="also write a PNG: the cross field with its singularities, the map's grid "
                                           "on the input (dual-loops: the loops' regions) and the quad mesh")
     parser.set_defaults(run=command_quadrangulate)

@@ -42,10 +42,11 @@ def stage_quadrangulation(context: DemoContext) -> Section:
     }
     images = [(name, "the cross field (crosses, cones coloured by index), the map's unit squares as a "
                      "checkerboard on the input, and the extracted quads")]
-    # §5.3: dual loops of the same field, singularities within 1.5 loop spacings merged; they are
-    # traced on closed meshes only (an open input, e.g. a scan with holes, is said so in the figures).
+    # §5.3: dual loops of the same field with dual_loop_layout's defaults (singularities merged, then
+    # its schedule of attempts); they are traced on closed meshes only (an open input, e.g. a scan with
+    # holes, is said so in the figures).
     try:
-        layout = dual_loop_layout(context.V, context.F, field, merge=1.5)
+        layout = dual_loop_layout(context.V, context.F, field)
     except InputError as error:
         figures["dual loops skipped"] = str(error)
     else:

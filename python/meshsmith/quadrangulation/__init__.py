@@ -11,7 +11,8 @@ Modules, one per algorithm family: ``cross_field``, ``cut_graph``, ``miq``, ``ex
 """
 from .cross_field import CrossField, Singularities, cross_field, field_angles, merge_singularities, singularities
 from .cut_graph import FieldCut, cut_graph
-from .dual_loops import DualLoopLayout, DualLoopReport, dual_loop_layout, RefinedField, refine_field
+from .dual_loops import (DUAL_LOOP_SCHEDULE, DualLoopAttempt, DualLoopLayout, DualLoopReport, dual_loop_layout,
+                         RefinedField, refine_field)
 from .extraction import QuadExtraction, QuadExtractionReport, extract_quads
 from .miq import MiqResult, miq
 from .pictures import field_glyphs, field_picture, regions_picture
@@ -23,7 +24,8 @@ from .spectral import (MorseSmaleComplex, SpectralQuadrangulation, SpectralQuadr
 __all__ = ["CrossField", "Singularities", "cross_field", "field_angles", "merge_singularities", "singularities", "FieldCut",
            "cut_graph", "MiqResult", "miq", "QuadExtraction", "QuadExtractionReport", "extract_quads",
            "QuadQuality", "quad_quality", "Quadrangulation", "QuadrangulationReport", "quadrangulate",
-           "DualLoopLayout", "DualLoopReport", "dual_loop_layout", "RefinedField", "refine_field",
+           "DualLoopLayout", "DualLoopReport", "DualLoopAttempt", "DUAL_LOOP_SCHEDULE", "dual_loop_layout",
+           "RefinedField", "refine_field",
            "field_glyphs", "field_picture", "regions_picture",
            "MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulation", "SpectralQuadrangulationReport",
            "spectral_quadrangulate"]
