@@ -102,6 +102,10 @@ def check_complete(V, F, layout):
     Q = layout.Q
     assert len(layout.Vq) == report.regions and Q.shape == (report.crossings, 4)
     check_closed_quad_mesh(Q, report.regions, topology.euler_characteristic(F))
+    # Distinct layout vertices (slivers between loops, with every vertex on a loop, once shared one):
+    # no layout quad with a zero-length edge.
+    assert len(np.unique(layout.Vq, axis=0)) == len(layout.Vq)
+    assert np.linalg.norm(layout.Vq[Q] - layout.Vq[np.roll(Q, -1, axis=1)], axis=2).min() > 0
     # Layout vertex valence = crossings on the region's boundary; a region with a singularity of
     # index k has 4 − k corners where the loops meet it as the field says.
     valence = np.bincount(Q.ravel(), minlength=report.regions)
@@ -480,7 +484,9 @@ def test_command_line_dual_loops_completes_kitten_and_fertility(data_dir, tmp_pa
     assert f"attempts                   {attempts} (this one: merge 1.5 spacings, refine 1, " \
            "parallel crossings at 4 x spacing)" in text
     Vq, P = io.read_mesh(out, triangulate=False)
-    check_closed_quad_mesh(P.to_array(), len(Vq), euler)
+    Q = P.to_array()
+    check_closed_quad_mesh(Q, len(Vq), euler)
+    assert np.linalg.norm(Vq[Q] - Vq[np.roll(Q, -1, axis=1)], axis=2).min() > 0      # no zero-length edge
 
 
 def test_schedule_holds_the_given_options_and_stops_at_the_first_complete_attempt():

@@ -731,7 +731,11 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
     report.multi_singular_regions += regions.singular[i] > 1;
   }
   out.region = regions.label;
-  // Layout vertices: the region's singular vertex, else its vertex farthest from the loops.
+  // Layout vertices: the region's singular vertex, else its vertex farthest from the loops, else (a
+  // sliver between loops, every vertex of it on a loop) the centroid of its largest face. The
+  // centroid keeps two layout vertices apart: a loop vertex can border several slivers, and the
+  // layouts the parallel crossings complete had them share one (kitten 4 pairs, fertility 2: 5
+  // quads each with a zero-length edge).
   out.Vq.resize(regions.count, 3);
   out.Vq_vertex.setConstant(regions.count, -1);
   std::vector<double> farthest(regions.count, -1.0);
@@ -745,12 +749,23 @@ DualLoopLayout dual_loop_layout(const VertexRef& V, const FaceRef& F, const Eige
     const double d = std::min(distance.d[2 * v], distance.d[2 * v + 1]);
     if (d > farthest[region]) farthest[region] = d, out.Vq_vertex[region] = static_cast<int>(v);
   }
+  std::vector<int> largest_face(regions.count, -1);
+  for (Eigen::Index f = 0; f < m; ++f) {
+    int& largest = largest_face[regions.label[f]];
+    if (largest < 0 || mesh.area[f] > mesh.area[largest]) largest = static_cast<int>(f);
+  }
   for (int i = 0; i < regions.count; ++i) {
-    if (out.Vq_vertex[i] < 0) {  // a region of faces whose vertices are all on loops: its first face's first vertex
-      for (Eigen::Index f = 0; f < m && out.Vq_vertex[i] < 0; ++f)
-        if (regions.label[f] == i) out.Vq_vertex[i] = F(f, 0);
+    if (out.Vq_vertex[i] >= 0) {
+      out.Vq.row(i) = V.row(out.Vq_vertex[i]);
+      continue;
     }
-    out.Vq.row(i) = V.row(out.Vq_vertex[i]);
+    const int f = largest_face[i];
+    const Eigen::RowVector3d centroid = (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))) / 3.0;
+    out.Vq.row(i) = centroid;
+    int nearest = F(f, 0);
+    for (int k = 1; k < 3; ++k)
+      if ((V.row(F(f, k)) - centroid).squaredNorm() < (V.row(nearest) - centroid).squaredNorm()) nearest = F(f, k);
+    out.Vq_vertex[i] = nearest;
   }
   out.Q = layout_quads(regions);
   out.Q_vertex = Eigen::Map<const Eigen::VectorXi>(crossing_vertex.data(), static_cast<Eigen::Index>(crossing_vertex.size()));

@@ -90,7 +90,9 @@ class DualLoopLayout(Unpackable):
     the last and first joined by mesh edges); loop_crossings: per loop, the (c,) int64 positions in
     it where another loop crosses; loop_lengths: (loops,) float64 in input units; region: (m,)
     int64 the region of each face; Vq: (r, 3) float64 layout vertices, one per region (its singular
-    vertex, else its vertex farthest from the loops), at input vertices Vq_vertex (r,) int64; Q:
+    vertex, else its vertex farthest from the loops, else — every vertex of the region on a loop —
+    the centroid of its largest face), at input vertices Vq_vertex (r,) int64 (for a centroid: that
+    face's nearest corner); Q:
     (c, 4) int64 layout quads, one per crossing (the regions around it, counter-clockwise), centred
     at input vertex Q_vertex (c,) int64; singular_vertices, singular_indices: the field's
     singularities (quarter turns); report: a :class:`DualLoopReport`.

@@ -78,8 +78,10 @@ struct DualLoopReport {
 struct DualLoopLayout {
   std::vector<DualLoop> loops;
   Eigen::VectorXi region;  ///< #F region of each face (0 .. regions−1)
-  VertexMatrix Vq;         ///< #regions×3 layout vertices: a region's singular vertex, else its vertex farthest from the loops
-  Eigen::VectorXi Vq_vertex;  ///< #regions the input vertex each layout vertex sits at
+  /// #regions×3 layout vertices: a region's singular vertex, else its vertex farthest from the loops,
+  /// else (every vertex of the region on a loop) the centroid of its largest face
+  VertexMatrix Vq;
+  Eigen::VectorXi Vq_vertex;  ///< #regions the input vertex each layout vertex sits at (for a centroid: that face's nearest corner)
   QuadMatrix Q;            ///< #crossings×4 layout quads (regions around each crossing, counter-clockwise)
   Eigen::VectorXi Q_vertex;   ///< #crossings the input vertex of each crossing (the layout face's centre)
   Singularities singularities;
