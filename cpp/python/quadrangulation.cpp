@@ -176,6 +176,7 @@ void bind_quadrangulation(py::module_& m) {
     out["separation_conflicts"] = result.separation_conflicts;
     out["released_feature_edges"] = result.released_feature_edges;
     out["release_rounds"] = result.release_rounds;
+    out["flipped_unconstrained"] = result.flipped_unconstrained;
     out["rerounded_integers"] = result.rerounded_integers;
     out["target_edge_length"] = result.target_edge_length;
     out["cut"] = cut_dict(std::move(result.cut));

@@ -42,7 +42,10 @@ class MiqResult(Unpackable):
     came from (0: every feature as asked); rerounded_integers: integer unknowns moved by ±1
     after the repair because flips were left (each move kept only when the repaired map has
     fewer flips: two cones rounded onto one point or into an order the triangles between them
-    cannot follow).
+    cannot follow); flipped_unconstrained: where flips were left with the feature edges held, the
+    flips of the map solved with every one released (−1: not solved) — the release re-solves run
+    only when it is below those (else the cones fold the map, not the features: pmp-bunny at
+    sharp_angle=60 ran ten fruitless re-solves in each of five merge distances, 255 s).
     """
 
     unpacks = ("UV", "flipped_before", "flipped_after")
@@ -60,6 +63,7 @@ class MiqResult(Unpackable):
     released_feature_edges: int
     release_rounds: int
     rerounded_integers: int
+    flipped_unconstrained: int
 
 
 @_arguments.real_options
@@ -123,7 +127,8 @@ def miq(V: ArrayLike, F: ArrayLike, field: FieldLike, *, target_edge_length: flo
                      target_edge_length=float(out["target_edge_length"]), feature_edges=int(out["feature_edges"]),
                      separations=int(out["separations"]), separation_conflicts=int(out["separation_conflicts"]),
                      released_feature_edges=int(out["released_feature_edges"]), release_rounds=int(out["release_rounds"]),
-                     rerounded_integers=int(out["rerounded_integers"]))
+                     rerounded_integers=int(out["rerounded_integers"]),
+                     flipped_unconstrained=int(out["flipped_unconstrained"]))
 
 
 def grid_length(V: ArrayLike, F: ArrayLike, target_edge_length: float | None, target_quads: int | None,

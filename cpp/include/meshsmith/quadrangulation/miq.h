@@ -50,6 +50,9 @@ struct MiqResult {
   Eigen::Index released_feature_edges = 0;  ///< feature edges left free because the map folded with them held
   int release_rounds = 0;                   ///< re-solves with feature edges near the flips released
   int rerounded_integers = 0;  ///< integer unknowns moved by ±1 after the repair, where flips were left (step 4)
+  /// flips of the map solved with every feature edge released, solved where flips were left with
+  /// the features held (−1: not solved); no release round is run unless it is below those flips
+  int flipped_unconstrained = -1;
   double target_edge_length = 0.0;  ///< the grid unit used, in input units (after the calibration to target_quads)
 };
 
