@@ -363,9 +363,8 @@ def _untangle(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, surface
     inverted, or after `rounds` rounds. A vertex in two quads only (a valence-2 vertex between two quads that
     share both its edges) has corners near 180° there that no move makes convex on a flat
     surface. Returns (positions, how many vertices moved)."""
-    from scipy.spatial import cKDTree
-
     from ..geometry import face_normals
+    from ..points import KdTree
 
     P = np.array(Vq, dtype=np.float64, copy=True)
     n = len(P)
@@ -374,7 +373,7 @@ def _untangle(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, surface
     points, triangles = np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
     face_normal = face_normals(points, triangles)
     centroids = points[triangles].mean(axis=1)
-    centroid_tree = cKDTree(centroids)
+    centroid_tree = KdTree(centroids)
     nearby = min(UNTANGLE_CENTROIDS, len(centroids))
     face = surface.closest_points(P).face
     # the quads at each vertex, padded with -1
@@ -429,8 +428,7 @@ def _untangle(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, surface
         trial = (P[chosen][:, None, :] + mean_length[:, None, None]
                  * (offsets[None, :, :1] * first[:, None, :] + offsets[None, :, 1:] * second[:, None, :]))
         trial = surface.closest_points(trial.reshape(-1, 3)).point.reshape(k, -1, 3)
-        _, near = centroid_tree.query(P[chosen], k=nearby)
-        near = np.asarray(near).reshape(k, nearby)
+        near = centroid_tree.query(nearby, P[chosen]).indices
         trial = np.concatenate([P[chosen][:, None, :], trial, centroids[near]], axis=1)     # trial 0: stay
         # each trial's quads: (k, trials, valence, 4, 3)
         quads = incident[chosen]
