@@ -234,6 +234,12 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     return Quadrangulation(Vq, Q, param.UV, report, field)
 
 
+def _quad_edges(Q: IndexArray) -> IndexArray:
+    """The edges of the quads Q (q, 4), one row per quad corner c: (Q[:, c], Q[:, c+1]) sorted,
+    quad by quad (4q, 2); repeated where quads share an edge."""
+    return np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
+
+
 def _remove_doublets(Vq: FloatArray, Q: IndexArray) -> tuple[FloatArray, IndexArray, int]:
     """Removes the doublets of a quad mesh: an interior vertex v in exactly two quads, which then
     share both of its edges, (v, a, x, b) and (v, b, y, a); the two become the one quad
@@ -294,12 +300,10 @@ def _relax(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, rounds: in
     surface = SurfaceDistance(V, F)
     face_normal = face_normals(V, F)
     under = surface.closest_points(Vq).face
-    edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
+    edges, counts = np.unique(_quad_edges(Q), axis=0, return_counts=True)
     # boundary vertices stay where they are
-    all_edges = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
-    unique, counts = np.unique(all_edges, axis=0, return_counts=True)
     boundary = np.zeros(len(Vq), dtype=bool)
-    boundary[unique[counts == 1].ravel()] = True
+    boundary[edges[counts == 1].ravel()] = True
     degree = np.bincount(edges.ravel(), minlength=len(Vq)).astype(np.float64)
     best, best_jacobian = Vq, float(quad_quality(Vq, Q).scaled_jacobian.min())
     moved = np.zeros(len(Vq), dtype=bool)
@@ -392,7 +396,7 @@ def _untangle(Vq: FloatArray, Q: IndexArray, V: ArrayLike, F: ArrayLike, surface
     owner = Q.ravel()[order]
     incident = np.full((n, int(valence.max())), -1, dtype=np.int64)
     incident[owner, np.arange(len(order)) - start[owner]] = order // 4
-    edges = np.unique(np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1), axis=0)
+    edges = np.unique(_quad_edges(Q), axis=0)
     angles = np.linspace(0.0, 2.0 * np.pi, UNTANGLE_DIRECTIONS, endpoint=False)
     directions = np.stack([np.cos(angles), np.sin(angles)], axis=1)
     steps = np.repeat(np.asarray(UNTANGLE_STEPS, dtype=np.float64), UNTANGLE_DIRECTIONS)
@@ -479,8 +483,7 @@ def _feature_faces(V: ArrayLike, F: ArrayLike, field: CrossField, sharp_angle: f
 def _irregular_vertices(Q: IndexArray, valence: IndexArray) -> int:
     """Interior vertices of valence other than 4 (a vertex is interior when every edge at it has
     two quads)."""
-    edges = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    unique, counts = np.unique(_quad_edges(Q), axis=0, return_counts=True)
     boundary = np.zeros(len(valence), dtype=bool)
     boundary[unique[counts == 1].ravel()] = True
     used = valence > 0
@@ -501,7 +504,7 @@ def _smooth_angles(Vq: FloatArray, Q: IndexArray, surface: Any, rounds: int,
     above 0, has its corners put back (repeated until none does, at most ten times), so the
     minimum scaled Jacobian never drops and no quad becomes inverted. Rounds stop at the first that does not lower the mean |angle − 90°|
     (at most `rounds`). Returns (positions, how many vertices moved)."""
-    edge_list = np.sort(np.stack([Q, np.roll(Q, -1, axis=1)], -1).reshape(-1, 2), axis=1)
+    edge_list = _quad_edges(Q)
     unique, inverse, counts = np.unique(edge_list, axis=0, return_inverse=True, return_counts=True)
     inverse = inverse.ravel()
     n = len(Vq)

@@ -12,7 +12,7 @@ from .. import _arguments
 from .._core import quadrangulation as _core
 from .._results import Unpackable
 from .._typing import ArrayLike, BoolArray, FloatArray, IndexArray, ProgressCallback
-from .pipeline import RELAX_BELOW, SMOOTH_ROUNDS, _irregular_vertices, _relax, _smooth_angles, _untangle
+from .pipeline import SMOOTH_ROUNDS, _irregular_vertices, _relax, _smooth_angles, _untangle
 from .quality import quad_quality
 
 __all__ = ["MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulationReport",
@@ -21,7 +21,7 @@ __all__ = ["MorseSmaleComplex", "morse_smale_complex", "SpectralQuadrangulationR
 #: vertex_type codes of :class:`MorseSmaleComplex`.
 CRITICAL_TYPES = {0: "regular", 1: "minimum", 2: "saddle", 3: "maximum"}
 
-#: Rounds of the untangling of inverted quads after the relaxation, at most.
+#: Rounds of the untangling of inverted quads (before and, where needed, after the relaxation), at most.
 UNTANGLE_ROUNDS = 300
 
 
@@ -207,7 +207,7 @@ def spectral_quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | No
     index (>= 1) instead, overriding target_patches. The extracted quads are then untangled: the
     corners of inverted quads (scaled Jacobian <= 0) move one at a time to the best of a few trial
     points on the surface around them (:func:`_untangle` in pipeline.py; measured at 2,000 quads,
-    2026-12-05: spot, kitten, rocker-arm, fertility, cheburashka, pmp-bunny and bumpy-cube keep
+    2026-12-04: spot, kitten, rocker-arm, fertility, cheburashka, pmp-bunny and bumpy-cube keep
     none, from 0-573 as extracted). relax: only where that leaves an inverted quad, at most this
     many rounds of moving the corners of quads with scaled Jacobian below 0.2 (and their
     neighbours) towards the mean of their quad-edge neighbours within the tangent plane and back
