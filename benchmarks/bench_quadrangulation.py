@@ -29,7 +29,7 @@ fandisk.obj again with sharp_angle=40 (MIQ holds its feature edges on integer is
 quads, the peers as above: the same figures plus the fraction of the feature length on integer
 iso-lines and of the feature-edge midpoints within 1e-6 / 0.01 quad edges of a quad edge (also for
 the peers). Checks: pure quads, no MIQ flip left, complete, convex; ≥ 95% of the feature length on
-integer iso-lines. Then fandisk once more with crease_weight=0 (the cross field without its crease term).
+integer iso-lines. Then fandisk once more with conformal_scale=0 (MIQ's uniform grid scale).
 
 Dual-loop layouts (§5.3, `dual_loop_layout`, no peer on PyPI): the torus (48×16) and spot's smooth
 cross field (computed once, outside the timing), default spacing; printed: loops, crossings
@@ -149,7 +149,7 @@ def main():
               f"{report.merge_distance / report.target_edge_length:.1f} quad edges, {report.miq_attempts} MIQ solves), "
               f"extraction complete: {report.extraction.complete}, left out {report.extraction.squares_inconsistent} "
               f"squares, min scaled Jacobian {report.min_scaled_jacobian_extracted:.3f} → {report.min_scaled_jacobian:.3f} "
-              f"({report.relaxed_vertices} vertices relaxed)")
+              f"({report.relaxed_vertices} vertices relaxed), MIQ map's mean |μ| {report.map_distortion:.3f}")
         T = np.concatenate([result.Q[:, [0, 1, 2]], result.Q[:, [0, 2, 3]]])
         bench.check("meshsmith: non-quad faces + non-manifold + unoriented",
                     figures["meshsmith"]["non_quads"] + (not topology.is_manifold(T)) + (not topology.is_oriented(T)), 0)
@@ -195,8 +195,8 @@ def feature_cases(im, qf):
     3,000 quads against the peers (asked for the same count; neither has feature constraints):
     the figures above plus the fractions of feature_fractions. Checks: pure quads, no MIQ flip
     left, complete, every quad convex; ≥ 95% of the feature length on integer iso-lines. Then
-    fandisk without features and without the field's crease term (crease_weight=0: what the
-    default's crease alignment gains), the same checks but the last."""
+    fandisk without features and with MIQ's uniform grid scale (conformal_scale=0: what the
+    default's conformal scale gains), the same checks but the last."""
     mesh = shared_mesh("fandisk.obj")
     if mesh is None:
         return
@@ -222,12 +222,12 @@ def feature_cases(im, qf):
                 figures["meshsmith"]["non_quads"] + report.flipped_after + (not report.extraction.complete)
                 + (not report.min_scaled_jacobian > 0), 0)
     bench.check("fandisk features: 0.95 − feature length fraction on integer iso-lines (≤ 0)", max(0.0, 0.95 - on_line), 0)
-    # without features and without the crease term: the field that does not follow the creases
-    bench = Benchmark("quadrangulation", f"quadrangulate fandisk.obj ({len(F):,} F) to {target:,} quads, crease_weight=0",
+    # without features and with a uniform grid scale (Bommes et al.'s MIQ)
+    bench = Benchmark("quadrangulation", f"quadrangulate fandisk.obj ({len(F):,} F) to {target:,} quads, conformal_scale=0",
                       repeats=3)
-    result, figures = side_by_side(bench, im, qf, V, F, target, euler, dict(crease_weight=0))
+    result, figures = side_by_side(bench, im, qf, V, F, target, euler, dict(conformal_scale=0))
     report = result.report
-    bench.check("fandisk crease_weight=0: non-quads + MIQ flips left + (not complete) + (min scaled Jacobian <= 0)",
+    bench.check("fandisk conformal_scale=0: non-quads + MIQ flips left + (not complete) + (min scaled Jacobian <= 0)",
                 figures["meshsmith"]["non_quads"] + report.flipped_after + (not report.extraction.complete)
                 + (not report.min_scaled_jacobian > 0), 0)
 

@@ -150,7 +150,7 @@ void bind_quadrangulation(py::module_& m) {
 
   m.def("miq", [](const py::object& V, const py::object& F, const py::object& theta, double target_edge_length,
                   double target_quads, bool round_singularities, bool round_translations, const py::object& repair_iterations,
-                  double stiffening, double sharp_angle, bool reround, const py::object& callback) {
+                  double stiffening, double sharp_angle, bool reround, double conformal_scale, const py::object& callback) {
     const MeshArguments mesh(V, F);
     const Eigen::VectorXd angles = as_angles(theta);
     MiqOptions options;
@@ -162,6 +162,7 @@ void bind_quadrangulation(py::module_& m) {
     options.stiffening = stiffening;
     options.sharp_angle_degrees = sharp_angle;
     options.reround = reround;
+    options.conformal_scale = conformal_scale;
     const Progress progress = make_progress(callback);
     MiqResult result = without_gil([&] { return miq(mesh.V(), mesh.F(), angles, options, progress); });
     py::dict out;
@@ -179,12 +180,14 @@ void bind_quadrangulation(py::module_& m) {
     out["flipped_unconstrained"] = result.flipped_unconstrained;
     out["rerounded_integers"] = result.rerounded_integers;
     out["target_edge_length"] = result.target_edge_length;
+    out["log_scale_min"] = result.log_scale_min;
+    out["log_scale_max"] = result.log_scale_max;
     out["cut"] = cut_dict(std::move(result.cut));
     return out;
   }, py::arg("V"), py::arg("F"), py::arg("theta"), py::arg("target_edge_length") = 0.0,
      py::arg("target_quads") = 0.0, py::arg("round_singularities") = true, py::arg("round_translations") = true, py::arg("repair_iterations") = 10,
      py::arg("stiffening") = 5.0, py::arg("sharp_angle") = 0.0, py::arg("reround") = true,
-     py::arg("progress") = py::none(),
+     py::arg("conformal_scale") = 1.0, py::arg("progress") = py::none(),
      "Mixed-integer quadrangulation parametrization (§5.2.2 step 3); see meshsmith.quadrangulation.miq.");
 }
 

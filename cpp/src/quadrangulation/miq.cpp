@@ -193,6 +193,54 @@ Sparse with_held_identity(const Sparse& H, const std::vector<char>& held) {
 
 /// The grid unit (one quad edge) in normalized lengths: options.target_edge_length, or twice
 /// the mean edge length when it is 0.
+/// The log conformal factor φ (#V) of the flat cone metric whose parallel transport the cross
+/// field `theta` follows (Ben-Chen, Gotsman & Bunin 2008; Crane, Desbrun & Schröder 2010). Where
+/// the field turns against the surface's transport by δ across edge i → j (δ reduced mod π/2,
+/// from the face on the edge's left to the one on its right), a unit cross scaled by e^φ is the
+/// gradient of a map when ∇φ = J∇θ (Cauchy–Riemann for φ − iθ): along the edge φ_j − φ_i =
+/// δ · ℓ_ij / ℓ*_ij, ℓ* the dual edge's length. Least squares with the cotan weights ℓ*/ℓ
+/// (clamped at 0.01: the right-hand side is then Σ ±δ alone), a 1e-8 diagonal for the constant;
+/// the field's harmonic part (genus > 0) and its turning around cones are what no φ absorbs.
+/// \throw SolverError if CHOLMOD fails.
+Eigen::VectorXd conformal_log_scale(const FieldMesh& mesh, const FaceRef& F, const Eigen::VectorXd& theta) {
+  const auto& incidence = mesh.checked.incidence;
+  const Eigen::Index n = mesh.V.rows();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(4 * incidence.n_edges() + n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index e = 0; e < incidence.n_edges(); ++e) {
+    const int i = incidence.edges(e, 0), j = incidence.edges(e, 1);
+    double weight = 0;
+    for (int side = 0; side < 2; ++side) {
+      const int f = mesh.edge_faces(e, side);
+      if (f < 0) continue;
+      const int k = F(f, 0) != i && F(f, 0) != j ? F(f, 0) : F(f, 1) != i && F(f, 1) != j ? F(f, 1) : F(f, 2);
+      const Eigen::Vector3d a = mesh.V.row(i) - mesh.V.row(k), b = mesh.V.row(j) - mesh.V.row(k);
+      weight += 0.5 * a.dot(b) / std::max(a.cross(b).norm(), 1e-300);
+    }
+    weight = std::max(weight, 0.01);
+    triplets.emplace_back(i, i, weight);
+    triplets.emplace_back(j, j, weight);
+    triplets.emplace_back(i, j, -weight);
+    triplets.emplace_back(j, i, -weight);
+    const int f = mesh.edge_faces(e, 0), g = mesh.edge_faces(e, 1);
+    if (g < 0) continue;
+    const double delta = detail::quarter_residual(theta[g] - theta[f] - mesh.connection[e]);
+    rhs[j] += delta;
+    rhs[i] -= delta;
+  }
+  for (Eigen::Index v = 0; v < n; ++v) triplets.emplace_back(v, v, 1e-8);
+  Sparse L(n, n);
+  L.setFromTriplets(triplets.begin(), triplets.end());
+  Solver solver;
+  detail::configure_cholmod(solver);
+  solver.compute(L);
+  if (solver.info() != Eigen::Success) throw SolverError("miq: CHOLMOD failed to factorize the conformal-scale system");
+  Eigen::VectorXd phi = solver.solve(rhs);
+  if (!phi.allFinite()) throw SolverError("miq: the conformal-scale solve did not give finite values");
+  return phi;
+}
+
 double grid_unit(const FieldMesh& mesh, const MiqOptions& options) {
   double h = options.target_edge_length;
   const auto& incidence = mesh.checked.incidence;
@@ -315,6 +363,25 @@ MiqResult solve_map(const FieldMesh& mesh, const FaceRef& F, const MiqOptions& o
       edge_kept[row.edge] = 1;
     }
     feature_rows = std::move(kept);
+  }
+  // The grid's scale e^{λφ} per face (φ averaged over its corners), normalized so that its
+  // area-weighted mean square is 1 (the same count of unit squares as a uniform scale). After
+  // the features: their test above reads the unit crosses.
+  if (options.conformal_scale > 0) {
+    const Eigen::VectorXd phi = conformal_log_scale(mesh, F, result.cut.combed_theta);
+    Eigen::VectorXd log_scale(m);
+    double mean_square = 0;
+    for (Eigen::Index f = 0; f < m; ++f) {
+      log_scale[f] = options.conformal_scale * (phi[F(f, 0)] + phi[F(f, 1)] + phi[F(f, 2)]) / 3;
+      mean_square += mesh.area[f] * std::exp(2 * log_scale[f]);
+    }
+    log_scale.array() -= 0.5 * std::log(mean_square / mesh.area.sum());
+    for (Eigen::Index f = 0; f < m; ++f) {
+      target_u.row(f) *= std::exp(log_scale[f]);
+      target_v.row(f) *= std::exp(log_scale[f]);
+    }
+    result.log_scale_min = log_scale.minCoeff();
+    result.log_scale_max = log_scale.maxCoeff();
   }
   Eliminator eliminator(n_variables, integer);
   const int gauge = result.cut.singularities.vertices.empty() ? 0 : result.cut.singularities.vertices.front();
@@ -952,6 +1019,9 @@ MiqResult miq(const VertexRef& V, const FaceRef& F, const Eigen::VectorXd& theta
   if (!std::isfinite(options.target_edge_length)) throw InputError("miq: target_edge_length is not finite");
   if (!std::isfinite(options.target_quads)) throw InputError("miq: target_quads is not finite");
   if (!std::isfinite(options.stiffening) || options.stiffening < 1) throw InputError("miq: stiffening must be ≥ 1");
+  if (!(options.conformal_scale >= 0 && options.conformal_scale <= 1)) {
+    throw InputError("miq: conformal_scale must be in [0, 1]");
+  }
   progress.report(0.0, "miq: cut");
   const FieldCut cut = cut_graph(V, F, theta);
   const Eigen::Index n_edges = mesh.checked.incidence.n_edges();

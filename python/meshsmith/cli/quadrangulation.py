@@ -25,7 +25,7 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
         raise UsageError("--faces and --edge-length are exclusive: give one")
     if args.refine is not None and args.method != "dual-loops":
         raise UsageError("--refine is for --method dual-loops only")
-    for option in ("curvature_weight", "crease_weight"):
+    for option in ("curvature_weight", "crease_weight", "conformal_scale"):
         if getattr(args, option) is not None and args.method != "miq":
             raise UsageError(f"--{option.replace('_', '-')} is for --method miq only")
     V, F = read_mesh(args.input)
@@ -34,7 +34,7 @@ def command_quadrangulate(args: argparse.Namespace) -> int:
     if args.method == "dual-loops":
         return _dual_loops(args, V, F)
     align = args.align or "curvature"
-    weights = {option: getattr(args, option) for option in ("curvature_weight", "crease_weight")
+    weights = {option: getattr(args, option) for option in ("curvature_weight", "crease_weight", "conformal_scale")
                if getattr(args, option) is not None}                           # else quadrangulate's defaults
     start = time.perf_counter()
     result = quadrangulation.quadrangulate(V, F, target_faces=args.faces, target_edge_length=args.edge_length,
@@ -174,8 +174,11 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
     parser.add_argument("--curvature-weight", type=number(0, 1e6), default=None, metavar="W",
                         help="miq: the field's pull to the principal curvature directions (default 0.001)")
     parser.add_argument("--crease-weight", type=number(0, 1e6), default=None, metavar="W",
-                        help="miq: the field's pull along edges where the surface folds (default 0.2, "
-                             "which makes quads follow CAD creases without --sharp-angle; 0: none)")
+                        help="miq: the field's pull along edges where the surface folds (default 0: none; "
+                             "0.2 makes quads follow CAD creases without --sharp-angle)")
+    parser.add_argument("--conformal-scale", type=number(0, 1), default=None, metavar="S",
+                        help="miq: how far the quads' size follows the conformal factor of the field's flat "
+                             "cone metric (default 1: squarer quads of varying size; 0: a uniform size)")
     parser.add_argument("--refine", type=integer(0, 3), default=None, metavar="K",
                         help="dual-loops: split the mesh 1-to-4 K times before tracing, in every attempt (loops "
                              "between neighbouring singularities; default: the schedule's, 0 in the first and "

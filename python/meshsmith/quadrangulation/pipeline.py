@@ -38,8 +38,9 @@ class QuadrangulationReport(Unpackable):
     vertices moved by the relaxation of poorly shaped quads or the smoothing (0 with ``relax=0, smooth=0``);
     min_scaled_jacobian_extracted: the minimum scaled Jacobian before that relaxation (after the doublets'
     removal); removed_doublets: interior quad vertices of valence 2 removed after the extraction, each
-    with its two quads merged into one (see :func:`_remove_doublets`). The report holds no timings, so
-    equal calls give equal reports.
+    with its two quads merged into one (see :func:`_remove_doublets`); map_distortion: the area-weighted
+    mean Beltrami coefficient |μ| = (σ1 − σ2) / (σ1 + σ2) of the MIQ map kept (0 for a conformal map;
+    see ``MAP_DISTORTION_LIMIT``). The report holds no timings, so equal calls give equal reports.
     """
 
     quads: int
@@ -60,6 +61,7 @@ class QuadrangulationReport(Unpackable):
     relaxed_vertices: int
     min_scaled_jacobian_extracted: float
     removed_doublets: int
+    map_distortion: float
 
 
 #: Merge distances tried, in quad edges, until MIQ leaves no flipped triangle (the flips do not
@@ -80,6 +82,18 @@ MERGE_SCHEDULE = (4.0, 3.5, 3.0, 2.5, 2.0, 1.5, 1.0, 1.25, 0.75, 0.5)
 #: 710 feature edges flip-free with 32 irregular vertices; 2.5–3.5 fold until the constraints are
 #: dropped (34–36 irregular, 0 feature edges held).
 FEATURE_MERGE_SCHEDULE = (1.0, 1.5, 2.0, 0.5, 2.5, 0.75, 1.25, 3.0, 4.0)
+
+#: The largest mean Beltrami coefficient |μ| (area-weighted over the input's triangles) of an MIQ
+#: map that ends the merge schedule: a flip-free map above it is kept only when the next distances
+#: (at most ``MAP_RETRIES`` more) are worse. |μ| = 0.1 turns a right angle by up to ~11°.
+#: Measured at 3,000 quads with conformal_scale=1 (2026-12-04): fertility's merge at 4 quad edges
+#: (34 cones) leaves |μ| = 0.105 and quads 7.3° off square, at 3.5 (36 cones) 0.093 and 4.9°;
+#: every other shared mesh's first flip-free map had 0.037–0.084 (fandisk 0.049, kitten 0.079).
+MAP_DISTORTION_LIMIT = 0.1
+
+#: Flip-free maps over ``MAP_DISTORTION_LIMIT``, or whose extraction is incomplete, after which the
+#: next merge distances are tried, at most.
+MAP_RETRIES = 2
 
 #: Rounds of the tangential smoothing of the quad mesh (`smooth` of :func:`quadrangulate`) at most.
 #: The smoothing had not converged at 40 rounds of step 0.5 on any of the six meshes (measured
@@ -115,8 +129,8 @@ class Quadrangulation(Unpackable):
 @_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
-                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float = 0.2,
-                  merge: bool = True,
+                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float = 0.0,
+                  conformal_scale: float = 1.0, merge: bool = True,
                   relax: int = 30, rounding: str = "none", smooth: int = SMOOTH_ROUNDS,
                   progress: ProgressCallback = None) -> Quadrangulation:
     """Quadrangulate a triangle mesh: a smooth cross field, its mixed-integer seamless
@@ -131,19 +145,29 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
     curvature_weight, crease_weight: the pull of the principal curvature directions and of the
     edges where the surface folds against the field's smoothness (align="curvature"; as
-    :func:`cross_field`). Measured at 3,000 quads (2026-12-04; the mesh as read and with three 1e-9
-    perturbations), crease_weight 0 → 0.2 (the default): mean |angle − 90°| fandisk 6.61–7.98° →
-    5.95–6.29° (QuadriFlow 6.72°), spot 5.23–5.49° → 4.78°, kitten 5.89–6.15° → 5.37–5.62°,
-    rocker-arm 7.04–7.44° → 5.50°, fertility 6.24° → 5.73°, pmp-bunny 7.01° → 5.02°, with as many
-    irregular vertices (±2); at 0.1 fandisk stays at 6.43–6.92°. On meshes whose folds are
-    decimation or scan noise it costs: decimated-max 4.66–4.74° and 18–22 irregular → 5.49–6.16°
-    and 30–44 (QuadriFlow 9.59°, 30), nefertiti-lowres 4.77–5.36° → 7.20° (QuadriFlow 9.98°),
-    camelhead 4.30° → 6.78°; pass crease_weight=0 there. A stronger curvature_weight
-    (0.025–0.03) was the way to follow creases before the crease term, at a cost elsewhere (spot's
-    minimum scaled Jacobian 0.27 → 0.001–0.04, measured with crease_weight=0).
+    :func:`cross_field`, but crease_weight defaults to 0 here). The crease term makes the quads
+    follow folds (fandisk's crease faces within 5° of the edge: 97% at 0.2, 79% at 0); it was this
+    function's default (0.2) until the conformal scale below, which does more for the angles
+    without it. Measured at 3,000 quads with conformal_scale=1 (2026-12-04, the mesh as read and
+    three 1e-9 perturbations), mean |angle − 90°| at crease_weight 0 / 0.2: fandisk 2.75° / 3.38°,
+    decimated-max 3.28° / 3.92° (irregular vertices 18–22 / 30–46), camelhead 3.28° / 3.66°,
+    fertility 4.45° / 4.93°, nefertiti-lowres 3.01° / 3.06°; spot 3.85° / 3.50°, kitten 4.13° /
+    3.69°, rocker-arm 3.48° / 2.83°, pmp-bunny 4.09° / 3.21°. A stronger curvature_weight
+    (0.025–0.03) also follows creases, at a cost elsewhere (spot's minimum scaled Jacobian 0.27 →
+    0.001–0.04, measured with crease_weight=0 and a uniform scale).
+    conformal_scale: as :func:`miq` (default 1: the grid's scale follows the conformal factor of the
+    field's flat cone metric; 0: uniform). Measured at 3,000 quads (bench_quadrangulation.py,
+    2026-12-04): mean |angle − 90°| fandisk 2.94° (7.94° with 0; Instant Meshes at the same size
+    5.27°), spot 3.90°, kitten 4.06°, rocker-arm 3.45°, pmp-bunny 4.12°, fertility 4.45° (4.25°,
+    5.14°, 5.14°, 4.77°, 5.43° this morning with 0 and crease_weight=0.2); the quads' sizes vary
+    more (edge length std ÷ mean 0.13–0.21 → 0.20–0.29) and the Hausdorff distance to the input
+    grows (fandisk 0.014 → 0.025 of the diagonal, spot 0.014 → 0.019).
     merge: cancel or separate singularity pairs closer than about a quad edge before MIQ
     (:func:`merge_singularities`), trying the distances of ``MERGE_SCHEDULE`` (4 quad edges
-    down to 0.5: the longest merge that does not fold leaves the fewest irregular vertices) until MIQ leaves no flipped triangle, and keeping the attempt with the fewest. With sharp_angle, MIQ first holds
+    down to 0.5: the longest merge that does not fold leaves the fewest irregular vertices) until MIQ leaves no flipped triangle and a map whose mean Beltrami coefficient is at most
+    ``MAP_DISTORTION_LIMIT`` (asked only of maps with conformal_scale > 0 and no feature lines) and an extraction without holes (after a flip-free map that misses
+    either, at most ``MAP_RETRIES`` more distances), keeping the attempt with the fewest flips, then
+    an extraction without holes, then the least distortion. With sharp_angle, MIQ first holds
     the feature edges on integer iso-lines (so they become quad edges), trying the distances of
     ``FEATURE_MERGE_SCHEDULE`` (shortest first); if every one still folds, ``MERGE_SCHEDULE`` is
     run without those constraints (the field still follows the features) and
@@ -189,22 +213,38 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
             plans += [(factor, sharp_angle) for factor in (FEATURE_MERGE_SCHEDULE if merge else (0.0,))]
         plans += [(factor, None) for factor in (MERGE_SCHEDULE if merge else (0.0,))]
         best = None
-        attempts = 0
+        best_key: tuple[int, bool, bool, float] | None = None  # flips, incomplete, distorted, |μ|
+        attempts = retries = 0
         for attempt, (factor, features) in enumerate(plans):
             trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
             begin = 0.15 + 0.7 * attempt / len(plans)
             param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
-                        target_quads=target_faces, sharp_angle=features,
+                        target_quads=target_faces, sharp_angle=features, conformal_scale=conformal_scale,
                         progress=_arguments.stage(progress, begin, begin + 0.7 / len(plans)))
             attempts += 1
-            if best is None or param.flipped_after < best[1].flipped_after:
-                best = (trial, param, factor * length)
+            distortion = _map_distortion(V, F, param.UV)
+            # a flip-free map can still wind twice around a vertex (nefertiti-lowres at 3,000 quads
+            # with conformal_scale=1 and the longest merge): its extraction then leaves a hole. (Squares
+            # cut by the input's boundary, which MIQ does not put on iso-lines, are no such failure.)
+            extracted = None
             if param.flipped_after == 0:
-                break
-        assert best is not None
-        field, param, merge_distance = best
+                extracted = extract_quads(V, F, param.UV, progress=_arguments.stage(progress, 0.85, 1.0))
+            incomplete = extracted is None or _broken(extracted.report)
+            # held feature lines distort any map (fandisk at sharp_angle=40: 0.11–0.13 at every
+            # distance), and so does a uniform scale (0.097–0.122 on the six meshes)
+            distorted = features is None and conformal_scale > 0 and distortion > MAP_DISTORTION_LIMIT
+            key = (param.flipped_after, incomplete, distorted, distortion)
+            if best_key is None or key < best_key:
+                best, best_key = (trial, param, factor * length, extracted), key
+            if param.flipped_after == 0:
+                if not (incomplete or distorted) or retries == MAP_RETRIES:
+                    break
+                retries += 1
+        assert best is not None and best_key is not None
+        field, param, merge_distance, quads = best
         singular = singularities(V, F, field)
-    quads = extract_quads(V, F, param.UV, progress=_arguments.stage(progress, 0.85, 1.0))
+    if quads is None:
+        quads = extract_quads(V, F, param.UV, progress=_arguments.stage(progress, 0.85, 1.0))
     Vq, Q, doublets = _remove_doublets(quads.V, quads.Q)
     extracted_jacobian, relaxed = float("nan"), 0
     if len(Q):
@@ -230,8 +270,31 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
         irregular_vertices=irregular, mean_angle_deviation=mean_deviation, max_angle_deviation=max_deviation,
         min_scaled_jacobian=min_jacobian, merge_distance=merge_distance, feature_edges=param.feature_edges,
         miq_attempts=attempts,
-        relaxed_vertices=relaxed, min_scaled_jacobian_extracted=extracted_jacobian, removed_doublets=doublets)
+        relaxed_vertices=relaxed, min_scaled_jacobian_extracted=extracted_jacobian, removed_doublets=doublets,
+        map_distortion=best_key[3])
     return Quadrangulation(Vq, Q, param.UV, report, field)
+
+
+def _broken(report: QuadExtractionReport) -> bool:
+    """An extraction with a hole, an inconsistent square or quad, or another Euler characteristic
+    than the input's (squares cut by the input's boundary alone are not counted)."""
+    return bool(report.holes or report.squares_inconsistent or report.quads_non_manifold
+                or report.euler_output != report.euler_input)
+
+
+def _map_distortion(V: ArrayLike, F: ArrayLike, UV: FloatArray) -> float:
+    """The area-weighted mean Beltrami coefficient |μ| = (σ1 − σ2) / (σ1 + σ2) of a per-corner map
+    UV (m, 3, 2) of the triangles (V, F) (σ the singular values of each triangle's Jacobian, as
+    :func:`meshsmith.geometry.triangle_distortion`); a triangle collapsed in UV counts as 1."""
+    from ..geometry.metrics import triangle_distortion
+    P = np.asarray(V, dtype=np.float64)[np.asarray(F, dtype=np.int64)].reshape(-1, 3)
+    m = len(P) // 3
+    measures = triangle_distortion(P, np.arange(3 * m).reshape(m, 3), np.asarray(UV).reshape(-1, 2))
+    s1, s2 = measures.singular_values[:, 0], measures.singular_values[:, 1]
+    with np.errstate(invalid="ignore"):
+        mu = np.where(np.isfinite(s1) & (s1 > 0), (s1 - s2) / np.maximum(s1 + s2, 1e-300), 1.0)
+    area = measures.surface_areas
+    return float((area * mu).sum() / area.sum())
 
 
 def _quad_edges(Q: IndexArray) -> IndexArray:

@@ -32,6 +32,13 @@ struct MiqOptions {
   /// does), the coordinate across it is held constant along it and integer on both sides, so
   /// the edge lies on an integer iso-line and becomes a quad edge. ≤ 0: no features.
   double sharp_angle_degrees = 0.0;
+  /// How far the grid's scale follows the conformal factor of the field's flat cone metric
+  /// (0: a uniform scale, as in Bommes et al. 2009; 1: the whole factor). Where the cross field
+  /// turns against parallel transport, a map with gradients s·u* cannot follow it without
+  /// shear; with s = e^{λφ}, φ the log conformal factor whose gradient is the field's turning
+  /// rotated by 90° (Cauchy–Riemann), the targets are integrable up to the field's harmonic part
+  /// and the quads keep their right angles, at the price of quads of varying size.
+  double conformal_scale = 1.0;
 };
 
 using CornerUV = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
@@ -54,6 +61,8 @@ struct MiqResult {
   /// the features held (−1: not solved); no release round is run unless it is below those flips
   int flipped_unconstrained = -1;
   double target_edge_length = 0.0;  ///< the grid unit used, in input units (after the calibration to target_quads)
+  /// the range of the grid's log scale λφ over the faces (MiqOptions::conformal_scale; 0, 0 without)
+  double log_scale_min = 0.0, log_scale_max = 0.0;
 };
 
 /// A seamless integer-grid map of (V, F) following the cross field `theta` (#F angles, as
