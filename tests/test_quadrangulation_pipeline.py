@@ -329,3 +329,17 @@ def test_features_leave_no_doublet_and_no_degenerate_quad(data_dir):
     assert not np.any((quality.valence == 2) & ~border)
     assert result.report.min_scaled_jacobian > 0
     assert result.report.flipped_after == 0
+
+
+def test_crease_weight_defaults_to_the_crease_term_only_with_sharp_angle():
+    """crease_weight=None (the default) is 0 without sharp_angle and 0.2 with it: the quads equal
+    those of the explicit weight and differ from the other's (a bumpy cube: its edges fold by 90°,
+    below sharp_angle=100, so that the crease term acts where no feature constraint does)."""
+    V, F = datasets.cube(subdivisions=10)
+    V = V + 0.03 * np.sin(7 * V[:, [1, 2, 0]]) * np.abs(V)
+    for sharp, weight, other in ((None, 0.0, 0.2), (100.0, 0.2, 0.0)):
+        default = quadrangulate(V, F, target_faces=200, sharp_angle=sharp)
+        explicit = quadrangulate(V, F, target_faces=200, sharp_angle=sharp, crease_weight=weight)
+        different = quadrangulate(V, F, target_faces=200, sharp_angle=sharp, crease_weight=other)
+        assert np.array_equal(default.Q, explicit.Q) and np.array_equal(default.V, explicit.V)
+        assert not np.array_equal(default.field.theta, different.field.theta)

@@ -174,11 +174,12 @@ def register(commands: argparse._SubParsersAction[argparse.ArgumentParser]) -> N
     parser.add_argument("--curvature-weight", type=number(0, 1e6), default=None, metavar="W",
                         help="miq: the field's pull to the principal curvature directions (default 0.001)")
     parser.add_argument("--crease-weight", type=number(0, 1e6), default=None, metavar="W",
-                        help="miq: the field's pull along edges where the surface folds (default 0: none; "
-                             "0.2 makes quads follow CAD creases without --sharp-angle)")
+                        help="miq: the field's pull along edges where the surface folds (default 0, 0.2 with "
+                             "--sharp-angle; 0.2 makes quads follow CAD creases without --sharp-angle)")
     parser.add_argument("--conformal-scale", type=number(0, 1), default=None, metavar="S",
                         help="miq: how far the quads' size follows the conformal factor of the field's flat "
-                             "cone metric (default 1: squarer quads of varying size; 0: a uniform size)")
+                             "cone metric (default 1: squarer quads of varying size; 0: a uniform size; "
+                             "maps holding --sharp-angle features use 0)")
     parser.add_argument("--refine", type=integer(0, 3), default=None, metavar="K",
                         help="dual-loops: split the mesh 1-to-4 K times before tracing, in every attempt (loops "
                              "between neighbouring singularities; default: the schedule's, 0 in the first and "

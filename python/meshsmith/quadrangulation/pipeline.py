@@ -129,7 +129,7 @@ class Quadrangulation(Unpackable):
 @_arguments.real_options
 def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None,
                   target_edge_length: float | None = None, align: str = "curvature",
-                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float = 0.0,
+                  sharp_angle: float | None = None, curvature_weight: float = 1e-3, crease_weight: float | None = None,
                   conformal_scale: float = 1.0, merge: bool = True,
                   relax: int = 30, rounding: str = "none", smooth: int = SMOOTH_ROUNDS,
                   progress: ProgressCallback = None) -> Quadrangulation:
@@ -145,7 +145,7 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     cross field's period-jump rounding, as :func:`cross_field` ("none", "resolve" or "greedy").
     curvature_weight, crease_weight: the pull of the principal curvature directions and of the
     edges where the surface folds against the field's smoothness (align="curvature"; as
-    :func:`cross_field`, but crease_weight defaults to 0 here). The crease term makes the quads
+    :func:`cross_field`; crease_weight None: 0.2 with sharp_angle, else 0). The crease term makes the quads
     follow folds (fandisk's crease faces within 5° of the edge: 97% at 0.2, 79% at 0); it was this
     function's default (0.2) until the conformal scale below, which does more for the angles
     without it. Measured at 3,000 quads with conformal_scale=1 (2026-12-04, the mesh as read and
@@ -154,9 +154,14 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     fertility 4.45° / 4.93°, nefertiti-lowres 3.01° / 3.06°; spot 3.85° / 3.50°, kitten 4.13° /
     3.69°, rocker-arm 3.48° / 2.83°, pmp-bunny 4.09° / 3.21°. A stronger curvature_weight
     (0.025–0.03) also follows creases, at a cost elsewhere (spot's minimum scaled Jacobian 0.27 →
-    0.001–0.04, measured with crease_weight=0 and a uniform scale).
+    0.001–0.04, measured with crease_weight=0 and a uniform scale). With sharp_angle the crease term
+    stays (pmp-bunny at sharp_angle=60, whose 139 "feature" edges are scan noise: 2 MIQ attempts and
+    38 s with it, 6 and 171 s without; 2026-12-04).
     conformal_scale: as :func:`miq` (default 1: the grid's scale follows the conformal factor of the
-    field's flat cone metric; 0: uniform). Measured at 3,000 quads (bench_quadrangulation.py,
+    field's flat cone metric; 0: uniform), for the MIQ attempts that hold no feature line: those
+    that do (sharp_angle) use the uniform scale, with which they fold less (measured 2026-12-04 at
+    3,000 quads: with the conformal scale pmp-bunny at sharp_angle=60 ran all 19 attempts, 236 s,
+    and kitten at 40 ended incomplete; uniform: 2 attempts, 38 s, and 6, complete). Measured at 3,000 quads (bench_quadrangulation.py,
     2026-12-04): mean |angle − 90°| fandisk 2.94° (7.94° with 0; Instant Meshes at the same size
     5.27°), spot 3.90°, kitten 4.06°, rocker-arm 3.45°, pmp-bunny 4.12°, fertility 4.45° (4.25°,
     5.14°, 5.14°, 4.77°, 5.43° this morning with 0 and crease_weight=0.2); the quads' sizes vary
@@ -201,6 +206,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     relax = _arguments.integer(relax, "relax", 0, 1000)
     smooth = _arguments.integer(smooth, "smooth", 0, 1000)
     # the stages share one checked mesh, its face frames and adjacency (one build instead of a dozen)
+    if crease_weight is None:
+        crease_weight = 0.0 if sharp_angle is None else 0.2
     with _core.shared_field_mesh():
         field = cross_field(V, F, align=align, sharp_angle=sharp_angle, curvature_weight=curvature_weight,
                             crease_weight=crease_weight,
@@ -219,7 +226,8 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
             trial = field if factor == 0 else merge_singularities(V, F, field, factor * length, fixed_faces=fixed)
             begin = 0.15 + 0.7 * attempt / len(plans)
             param = miq(V, F, trial, target_edge_length=length if target_faces is None else None,
-                        target_quads=target_faces, sharp_angle=features, conformal_scale=conformal_scale,
+                        target_quads=target_faces, sharp_angle=features,
+                        conformal_scale=conformal_scale if features is None else 0.0,   # see the docstring
                         progress=_arguments.stage(progress, begin, begin + 0.7 / len(plans)))
             attempts += 1
             distortion = _map_distortion(V, F, param.UV)
