@@ -91,6 +91,7 @@ def describe(V, Q, euler, input_mesh):
     hausdorff = geometry.hausdorff_distance(V, faces.fan_triangles()[0], V0, F0) / diagonal
     return dict(quads=int(pure.sum()), non_quads=int((~pure).sum()), irregular=irregular, hausdorff=hausdorff,
                 angle=float(np.abs(quality.angles - 90).mean()) if quality else float("nan"),
+                max_angle=float(np.abs(quality.angles - 90).max()) if quality else float("nan"),
                 jacobian=float(quality.scaled_jacobian.min()) if quality else float("nan"),
                 valid=bool(summary.is_manifold and summary.is_oriented and summary.euler_characteristic == euler))
 
@@ -122,9 +123,10 @@ def side_by_side(bench, im, qf, V, F, target, euler, options):
 
 def print_figures(figures, euler):
     """One row of describe()'s figures per tool."""
-    print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'min SJ':>7s} {'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
+    print(f"  {'tool':16s} {'quads':>6s} {'non-quads':>9s} {'irregular':>9s} {'|angle-90|':>10s} {'max':>6s} {'min SJ':>7s} "
+          f"{'Hausdorff':>9s}  valid (manifold, oriented, χ={euler})")
     for tool, f in figures.items():
-        print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} "
+        print(f"  {tool:16s} {f['quads']:6d} {f['non_quads']:9d} {f['irregular']:9d} {f['angle']:10.2f} {f['max_angle']:6.1f} "
               f"{f['jacobian']:7.3f} {f['hausdorff']:9.4f}  {f['valid']}")
 
 
@@ -157,6 +159,13 @@ def main():
                     0.4 if name == "torus" else 0.1)
         bench.check("meshsmith: MIQ flips left + (not complete) + (min scaled Jacobian <= 0)",
                     report.flipped_after + (not report.extraction.complete) + (not report.min_scaled_jacobian > 0), 0)
+        # the issue's comparison at the same output size: fewer irregular vertices, angles as close to 90°
+        for peer in (IM_QUARTER, "QuadriFlow") if name != "torus" else ():
+            if peer in figures:
+                ours, theirs = figures["meshsmith"], figures[peer]
+                bench.check(f"meshsmith irregular vertices − {peer}'s + 1 (≤ 0: fewer)",
+                            max(0, ours["irregular"] - theirs["irregular"] + 1), 0)
+                bench.check(f"meshsmith mean |angle − 90°| − {peer}'s (≤ 0)", max(0.0, ours["angle"] - theirs["angle"]), 0)
         if name == "torus":
             bench.check("torus: irregular vertices + (χ ≠ 0)",
                         figures["meshsmith"]["irregular"] + (not report.extraction.complete), 0)
