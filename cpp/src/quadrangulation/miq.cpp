@@ -191,8 +191,6 @@ Sparse with_held_identity(const Sparse& H, const std::vector<char>& held) {
   return out;
 }
 
-/// The grid unit (one quad edge) in normalized lengths: options.target_edge_length, or twice
-/// the mean edge length when it is 0.
 /// The log conformal factor φ (#V) of the flat cone metric whose parallel transport the cross
 /// field `theta` follows (Ben-Chen, Gotsman & Bunin 2008; Crane, Desbrun & Schröder 2010). Where
 /// the field turns against the surface's transport by δ across edge i → j (δ reduced mod π/2,
@@ -241,6 +239,8 @@ Eigen::VectorXd conformal_log_scale(const FieldMesh& mesh, const FaceRef& F, con
   return phi;
 }
 
+/// The grid unit (one quad edge) in normalized lengths: options.target_edge_length, or twice
+/// the mean edge length when it is 0.
 double grid_unit(const FieldMesh& mesh, const MiqOptions& options) {
   double h = options.target_edge_length;
   const auto& incidence = mesh.checked.incidence;

@@ -205,9 +205,9 @@ def quadrangulate(V: ArrayLike, F: ArrayLike, *, target_faces: int | None = None
     progress = _arguments.progress(progress)
     relax = _arguments.integer(relax, "relax", 0, 1000)
     smooth = _arguments.integer(smooth, "smooth", 0, 1000)
-    # the stages share one checked mesh, its face frames and adjacency (one build instead of a dozen)
     if crease_weight is None:
         crease_weight = 0.0 if sharp_angle is None else 0.2
+    # the stages share one checked mesh, its face frames and adjacency (one build instead of a dozen)
     with _core.shared_field_mesh():
         field = cross_field(V, F, align=align, sharp_angle=sharp_angle, curvature_weight=curvature_weight,
                             crease_weight=crease_weight,
